@@ -1,0 +1,30 @@
+# Every target sets up what it needs: a newcomer types `make run` or `make test` on a fresh machine.
+PYTHON ?= python3
+VENV := .venv
+BIN := $(VENV)/bin
+STAMP := $(VENV)/.installed
+
+.PHONY: install run test bench generate clean
+
+install: $(STAMP)
+
+$(STAMP): pyproject.toml
+	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
+	$(BIN)/python -m pip install --quiet --upgrade pip
+	$(BIN)/python -m pip install --quiet -e '.[dev]'
+	touch $(STAMP)
+
+run: install
+	$(BIN)/dyadc check components
+
+test: install
+	$(BIN)/python -m pytest -n 2 tests
+
+bench: install
+	$(BIN)/python benchmarks/run_all.py
+
+generate: install
+	$(BIN)/dyadc generate
+
+clean:
+	rm -rf $(VENV) out build *.egg-info .pytest_cache .hypothesis
