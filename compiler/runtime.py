@@ -1,0 +1,664 @@
+"""Run a compiled model: consistent initialization, IDAS integration, named results.
+
+This module imports only casadi, numpy and the standard library: code generation copies it verbatim
+next to every generated model module (as `dyad_runtime.py`), so generated models run without the
+compiler installed.
+"""
+from __future__ import annotations
+
+import difflib
+import math
+import os
+import re
+import sys
+import tempfile
+import time as _time
+from typing import Callable, Iterable, Mapping, Sequence
+
+import casadi as ca
+import numpy as np
+
+FORMAT_VERSION = 1
+
+# Readable explanations of the IDAS return flags that CasADi reports.
+_IDAS_REASONS = {
+    "IDA_TOO_MUCH_WORK": "too many steps (max_steps) before reaching the next output time",
+    "IDA_TOO_MUCH_ACC": "the requested accuracy is below machine precision",
+    "IDA_ERR_FAIL": "error test failed repeatedly or with |h| = hmin (step size collapsed)",
+    "IDA_CONV_FAIL": "corrector (Newton) convergence failed repeatedly or with |h| = hmin "
+                     "(the algebraic equations may have no solution here, or the model is singular)",
+    "IDA_LINIT_FAIL": "linear solver initialisation failed",
+    "IDA_LSETUP_FAIL": "linear solver setup failed (singular iteration matrix?)",
+    "IDA_LSOLVE_FAIL": "linear solve failed (singular iteration matrix?)",
+    "IDA_RES_FAIL": "the residual function failed (NaN or Inf in the equations?)",
+    "IDA_REP_RES_ERR": "the residual function failed repeatedly (NaN or Inf in the equations?)",
+    "IDA_RTFUNC_FAIL": "the root function failed",
+    "IDA_CONSTR_FAIL": "inequality constraints could not be met",
+    "IDA_FIRST_RES_FAIL": "the residual function failed at the first call",
+    "IDA_LINESEARCH_FAIL": "line search failed",
+    "IDA_NO_RECOVERY": "the residual function failed recoverably but the corrector could not recover",
+    "IDA_ILL_INPUT": "illegal input to IDAS",
+    "IDA_MEM_NULL": "IDAS memory missing",
+}
+
+
+class SimulationFailed(Exception):
+    """The solver could not continue. `time_reached` is the last time it got to."""
+
+    def __init__(self, message: str, time_reached: float | None = None, reason: str | None = None):
+        super().__init__(message)
+        self.time_reached = time_reached
+        self.reason = reason
+
+
+class InitializationFailed(SimulationFailed):
+    """No consistent initial point. `worst` lists (residual index, value, label), largest first."""
+
+    def __init__(self, message: str, time_reached: float, worst: list[tuple[int, float, str]]):
+        super().__init__(message, time_reached, "inconsistent or unsolvable initial conditions")
+        self.worst = worst
+
+
+class ModelInputError(ValueError):
+    """A bad request from the user of a compiled model (unknown parameter or output name, ...)."""
+
+
+def _did_you_mean(name: str, choices: Iterable[str]) -> str:
+    close = difflib.get_close_matches(name, list(choices), n=3, cutoff=0.5)
+    return f" (did you mean {', '.join(repr(c) for c in close)}?)" if close else ""
+
+
+class CompiledModel:
+    """The numerical model: CasADi Functions plus the names that give their vectors meaning.
+
+    Functions (all with inputs x, z, p, t unless noted):
+      dae     -> (ode, alg)       der(x) = ode, 0 = alg
+      init    -> residuals        the initialization system (maybe more rows than unknowns)
+      outputs -> values           one row per output name
+      params(p_user, override_mask) -> p_full   re-derives dependent parameter defaults
+    `state_sets` is the extension point for dynamic state selection: a list of descriptions of
+    alternative state choices. None are produced yet and `simulate` refuses a model that has some.
+    """
+
+    FUNCTION_NAMES = ("dae", "init", "outputs", "params")
+
+    def __init__(self, *, name: str, state_names: Sequence[str], algebraic_names: Sequence[str],
+                 parameter_names: Sequence[str], parameter_defaults: Sequence[float],
+                 output_names: Sequence[str], x_guess: Sequence[float], z_guess: Sequence[float],
+                 dae: ca.Function, init: ca.Function, outputs: ca.Function, params: ca.Function,
+                 parameter_tunable: Sequence[bool] | None = None,
+                 init_residual_labels: Sequence[str] | None = None,
+                 nominals: Mapping[str, float] | None = None,
+                 state_sets: Sequence[dict] | None = None,
+                 metadata: dict | None = None):
+        self.name = name
+        self.state_names = list(state_names)
+        self.algebraic_names = list(algebraic_names)
+        self.parameter_names = list(parameter_names)
+        self.parameter_defaults = [float(v) for v in parameter_defaults]
+        self.parameter_tunable = ([True] * len(self.parameter_names) if parameter_tunable is None
+                                  else [bool(b) for b in parameter_tunable])
+        self.output_names = list(output_names)
+        self.x_guess = [float(v) for v in x_guess]
+        self.z_guess = [float(v) for v in z_guess]
+        self.dae = dae
+        self.init = init
+        self.outputs = outputs
+        self.params = params
+        self.init_residual_labels = list(init_residual_labels or [])
+        self.nominals = {k: float(v) for k, v in (nominals or {}).items()}
+        self.state_sets = list(state_sets or [])
+        self.metadata = dict(metadata or {})
+        self._output_index = {n: i for i, n in enumerate(self.output_names)}
+        self._init_jacobian: ca.Function | None = None
+
+    # -- serialization ---------------------------------------------------------------------------
+    def to_dict(self) -> dict:
+        return {
+            "format_version": FORMAT_VERSION,
+            "name": self.name,
+            "state_names": self.state_names,
+            "algebraic_names": self.algebraic_names,
+            "parameter_names": self.parameter_names,
+            "parameter_defaults": self.parameter_defaults,
+            "parameter_tunable": self.parameter_tunable,
+            "output_names": self.output_names,
+            "x_guess": self.x_guess,
+            "z_guess": self.z_guess,
+            "init_residual_labels": self.init_residual_labels,
+            "nominals": dict(sorted(self.nominals.items())),
+            "state_sets": self.state_sets,
+            "metadata": self.metadata,
+            "functions": {f: getattr(self, f).serialize() for f in self.FUNCTION_NAMES},
+        }
+
+    @classmethod
+    def from_dict(cls, data: Mapping) -> "CompiledModel":
+        if data.get("format_version") != FORMAT_VERSION:
+            raise ModelInputError(f"unsupported compiled-model format {data.get('format_version')!r}"
+                                  f" (this runtime reads version {FORMAT_VERSION})")
+        functions = {f: ca.Function.deserialize(s) for f, s in data["functions"].items()}
+        return cls(name=data["name"], state_names=data["state_names"],
+                   algebraic_names=data["algebraic_names"],
+                   parameter_names=data["parameter_names"],
+                   parameter_defaults=data["parameter_defaults"],
+                   parameter_tunable=data.get("parameter_tunable"),
+                   output_names=data["output_names"], x_guess=data["x_guess"],
+                   z_guess=data["z_guess"],
+                   init_residual_labels=data.get("init_residual_labels"),
+                   nominals=data.get("nominals"), state_sets=data.get("state_sets"),
+                   metadata=data.get("metadata"), **functions)
+
+    # -- parameters --------------------------------------------------------------------------------
+    @property
+    def parameters(self) -> dict[str, float]:
+        return dict(zip(self.parameter_names, self.parameter_defaults))
+
+    def parameter_vector(self, overrides: Mapping[str, float] | None = None) -> np.ndarray:
+        """Defaults with `overrides` applied; parameters bound to overridden ones are re-derived."""
+        user = np.array(self.parameter_defaults, dtype=float)
+        mask = np.zeros(len(user))
+        index = {n: i for i, n in enumerate(self.parameter_names)}
+        for name, value in (overrides or {}).items():
+            if name not in index:
+                raise ModelInputError(f"unknown parameter '{name}' in model {self.name}"
+                                      + _did_you_mean(name, self.parameter_names))
+            i = index[name]
+            if not self.parameter_tunable[i]:
+                raise ModelInputError(f"parameter '{name}' of model {self.name} is final or "
+                                      "constant and cannot be overridden")
+            try:
+                user[i] = float(value)
+            except (TypeError, ValueError):
+                raise ModelInputError(f"parameter '{name}': value {value!r} is not a number") from None
+            mask[i] = 1.0
+        if not len(user):
+            return user
+        return np.asarray(self.params(user, mask), dtype=float).reshape(-1)
+
+    # -- names -------------------------------------------------------------------------------------
+    def output_index(self, name: str) -> int:
+        try:
+            return self._output_index[name]
+        except KeyError:
+            raise ModelInputError(f"unknown output '{name}' in model {self.name}"
+                                  + _did_you_mean(name, self.output_names)) from None
+
+    def init_jacobian(self) -> ca.Function:
+        """(x, z, p, t) -> (residuals, d residuals / d [x; z]) by CasADi AD, built once."""
+        if self._init_jacobian is None:
+            x = ca.SX.sym("x", len(self.state_names))
+            z = ca.SX.sym("z", len(self.algebraic_names))
+            p = ca.SX.sym("p", len(self.parameter_names))
+            t = ca.SX.sym("t")
+            r = self.init(x, z, p, t)
+            jac = ca.jacobian(r, ca.vertcat(x, z))
+            self._init_jacobian = ca.Function("init_jac", [x, z, p, t], [r, jac])
+        return self._init_jacobian
+
+
+# ------------------------------------------------------------------------------------------------
+# Consistent initialization
+# ------------------------------------------------------------------------------------------------
+
+class InitialPoint:
+    def __init__(self, x: np.ndarray, z: np.ndarray, iterations: int, residual: float):
+        self.x = x
+        self.z = z
+        self.iterations = iterations
+        self.residual = residual
+
+
+def _row_scales(jac: np.ndarray) -> np.ndarray:
+    """|r_i| / scale_i is how far (in the unknowns) residual i is from being satisfied."""
+    norms = np.max(np.abs(jac), axis=1) if jac.size else np.zeros(jac.shape[0])
+    return np.where(norms > 1e-300, norms, 1.0)
+
+
+def _levenberg_marquardt(evaluate: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]],
+                         w: np.ndarray, tol: float, max_iterations: int):
+    """Least-squares solve of r(w) = 0 with the exact Jacobian. Returns (w, r, jac, iterations)."""
+    r, jac = evaluate(w)
+    lam = 0.0
+    iterations = 0
+    while r.size and iterations < max_iterations and np.all(np.isfinite(r)):
+        if np.max(_scaled_residual(r, jac, w)) <= tol * 1e-3:
+            break
+        iterations += 1
+        # Row-equilibrate so that residuals in Pa and in m weigh alike; More's column scaling.
+        rows = _row_scales(jac)
+        jr, rr = jac / rows[:, None], r / rows
+        cols = np.sqrt(np.sum(jr * jr, axis=0))
+        cols = np.where(cols > 1e-300, cols, 1.0)
+        cost = 0.5 * float(rr @ rr)
+        accepted = False
+        for _ in range(30):
+            if lam > 0.0:
+                a = np.vstack([jr, np.sqrt(lam) * np.diag(cols)])
+                b = np.concatenate([-rr, np.zeros(len(w))])
+            else:
+                a, b = jr, -rr
+            step = np.linalg.lstsq(a, b, rcond=None)[0]
+            w_new = w + step
+            r_new, jac_new = evaluate(w_new)
+            rr_new = r_new / rows
+            cost_new = 0.5 * float(rr_new @ rr_new) if np.all(np.isfinite(r_new)) else math.inf
+            predicted = cost - 0.5 * float(np.sum((rr + jr @ step) ** 2))
+            if cost_new < cost:
+                gain = (cost - cost_new) / predicted if predicted > 0 else 1.0
+                lam = 0.0 if gain > 0.75 else lam / 3.0 if gain > 0.25 else max(lam, 1e-6)
+                accepted = True
+                break
+            lam = max(1e-6, 10.0 * lam)
+        if not accepted:
+            break                                  # a (local) least-squares minimum
+        tiny_step = np.max(np.abs(step), initial=0.0) <= 1e-15 * (1.0 + np.max(np.abs(w), initial=0.0))
+        w, r, jac = w_new, r_new, jac_new
+        if tiny_step:
+            break
+    return w, r, jac, iterations
+
+
+def _scaled_residual(r: np.ndarray, jac: np.ndarray, w: np.ndarray) -> np.ndarray:
+    if not np.all(np.isfinite(r)):
+        return np.where(np.isfinite(r), np.abs(r), math.inf)
+    return np.abs(r) / _row_scales(jac) / (1.0 + np.max(np.abs(w), initial=0.0))
+
+
+def consistent_initialization(model: CompiledModel, p: np.ndarray, t0: float, *,
+                              tol: float = 1e-10, max_iterations: int = 200) -> InitialPoint:
+    """Solve init(x, z, p, t0) = 0 in the least-squares sense (Levenberg–Marquardt, exact Jacobian).
+
+    More residuals than unknowns is fine when they are consistent. Success means every residual,
+    divided by the largest entry of its Jacobian row, is below `tol * (1 + |w|_inf)`: a
+    Newton-step-sized measure that does not depend on the units of the equation.
+    """
+    nx = len(model.state_names)
+    fun = model.init_jacobian()
+
+    def evaluate(w_: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        r_, j_ = fun(w_[:nx], w_[nx:], p, t0)
+        return np.asarray(r_, dtype=float).reshape(-1), np.asarray(ca.densify(j_), dtype=float)
+
+    w0 = np.concatenate([model.x_guess, model.z_guess]).astype(float)
+    w, r, jac, iterations = _levenberg_marquardt(evaluate, w0, tol, max_iterations)
+    measure = _scaled_residual(r, jac, w)
+    if not np.all(measure <= tol):
+        order = np.argsort(-np.nan_to_num(measure, nan=math.inf), kind="stable")
+        worst = [(int(i), float(r[i]), _label(model, int(i))) for i in order[:5] if measure[i] > tol]
+        lines = "\n".join(f"  residual {i} = {value:.6g}: {label}" for i, value, label in worst)
+        raise InitializationFailed(
+            f"initialization failed at t = {t0:g}: the initial conditions are inconsistent or "
+            f"have no solution near the guesses ({iterations} iterations); largest residuals:\n"
+            f"{lines}", t0, worst)
+    return InitialPoint(w[:nx].copy(), w[nx:].copy(), iterations, float(np.max(measure, initial=0)))
+
+
+def _label(model: CompiledModel, index: int) -> str:
+    labels = model.init_residual_labels
+    return labels[index] if index < len(labels) and labels[index] else f"initial residual #{index}"
+
+
+# ------------------------------------------------------------------------------------------------
+# Results
+# ------------------------------------------------------------------------------------------------
+
+class Result:
+    """A time grid and the named signals on it."""
+
+    def __init__(self, time: np.ndarray, names: Sequence[str], values: np.ndarray,
+                 stats: dict | None = None, model_name: str = ""):
+        self.time = np.asarray(time, dtype=float)
+        self.names = list(names)
+        self.values = np.asarray(values, dtype=float).reshape(len(self.names), len(self.time))
+        self.stats = dict(stats or {})
+        self.model_name = model_name
+        self._index = {n: i for i, n in enumerate(self.names)}
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        if name == "time":
+            return self.time
+        try:
+            return self.values[self._index[name]]
+        except KeyError:
+            raise ModelInputError(f"no signal '{name}' in the result of {self.model_name or 'the model'}"
+                                  + _did_you_mean(name, self.names)) from None
+
+    def __contains__(self, name: str) -> bool:
+        return name == "time" or name in self._index
+
+    def _columns(self, names: Sequence[str] | None) -> list[str]:
+        chosen = self.names if names is None else [n for n in names if n != "time"]
+        for n in chosen:
+            self[n]                                   # validates with a did-you-mean error
+        return list(chosen)
+
+    def to_csv(self, path: str | os.PathLike, names: Sequence[str] | None = None) -> None:
+        """Write `time` and the chosen signals (%.17g); atomically: no partial file on failure."""
+        columns = self._columns(names)
+        data = np.vstack([self.time] + [self[n] for n in columns]).T
+        header = ",".join(_csv_field(n) for n in ["time"] + columns)
+        _atomic_write(path, lambda out: _write_rows(out, header, data))
+
+    def plot(self, path: str | os.PathLike, names: Sequence[str] | None = None,
+             title: str | None = None) -> None:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        columns = self._columns(names)
+        fig, ax = plt.subplots(figsize=(9, 5))
+        for n in columns:
+            ax.plot(self.time, self[n], label=n)
+        ax.set_xlabel("time [s]")
+        ax.set_title(title or self.model_name)
+        ax.grid(True, alpha=0.3)
+        if columns:
+            ax.legend(fontsize="small", loc="best")
+        fig.tight_layout()
+        try:
+            _atomic_write(path, lambda out: fig.savefig(out, format=_plot_format(path)), binary=True)
+        finally:
+            plt.close(fig)
+
+
+def _plot_format(path: str | os.PathLike) -> str:
+    suffix = os.path.splitext(os.fspath(path))[1].lstrip(".").lower()
+    return suffix or "png"
+
+
+def _csv_field(name: str) -> str:
+    if any(c in name for c in ',"\n'):
+        return '"' + name.replace('"', '""') + '"'
+    return name
+
+
+def _write_rows(out, header: str, data: np.ndarray) -> None:
+    out.write(header + "\n")
+    for row in data:
+        out.write(",".join("%.17g" % v for v in row) + "\n")
+
+
+def _atomic_write(path: str | os.PathLike, write: Callable, binary: bool = False) -> None:
+    path = os.fspath(path)
+    directory = os.path.dirname(os.path.abspath(path))
+    os.makedirs(directory, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", suffix=".tmp",
+                               dir=directory)
+    try:
+        with os.fdopen(fd, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8",
+                                                                          "newline": "\n"})) as out:
+            write(out)
+            out.flush()
+            os.fsync(out.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+
+
+# ------------------------------------------------------------------------------------------------
+# Simulation
+# ------------------------------------------------------------------------------------------------
+
+class _Progress:
+    """A one-line bar on stderr, shown only once the run has taken longer than `after` seconds."""
+
+    def __init__(self, enabled: bool, start: float, stop: float, after: float = 2.0):
+        self.enabled = enabled
+        self.start, self.stop = start, stop
+        self.after = after
+        self.began = _time.perf_counter()
+        self.shown = False
+
+    def update(self, t: float) -> None:
+        if not self.enabled:
+            return
+        elapsed = _time.perf_counter() - self.began
+        if elapsed < self.after and not self.shown:
+            return
+        self.shown = True
+        frac = 1.0 if self.stop == self.start else (t - self.start) / (self.stop - self.start)
+        frac = min(max(frac, 0.0), 1.0)
+        width = 30
+        bar = "#" * int(round(frac * width))
+        sys.stderr.write(f"\r[{bar:<{width}}] t = {t:.4g} / {self.stop:.4g}  {elapsed:6.1f} s")
+        sys.stderr.flush()
+
+    def close(self) -> None:
+        if self.shown:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+
+
+def _idas_reason(text: str, solver_messages: str = "") -> str:
+    """IDAS's flag from CasADi's exception text, explained, plus SUNDIALS's own last message."""
+    match = re.search(r'returned "?(IDA_[A-Z_]+)"?', text)
+    if match:
+        flag = match.group(1)
+        reason = f"{flag}: {_IDAS_REASONS.get(flag, 'see the IDAS documentation')}"
+    else:
+        last = [line.strip() for line in text.strip().splitlines() if line.strip()]
+        reason = last[-1] if last else "unknown solver error"
+    # SUNDIALS prefixes "At t = ..." in its own (possibly rescaled) time; we report time ourselves.
+    said = [re.sub(r"^At t = [^,]*,[ ,]*", "", line.strip()) for line in solver_messages.splitlines()
+            if line.strip()]
+    return f"{reason} (IDAS: {said[-1]})" if said and said[-1] else reason
+
+
+class _CapturedStderr:
+    """Collect what C code (SUNDIALS) writes to file descriptor 2 during a solver call, so that its
+    message becomes part of our error instead of stray text. A no-op where fd 2 is unusable."""
+
+    def __init__(self):
+        self.text = ""
+        self._saved: int | None = None
+        self._file = None
+
+    def __enter__(self) -> "_CapturedStderr":
+        try:
+            sys.stderr.flush()
+            self._file = tempfile.TemporaryFile(mode="w+b")
+            self._saved = os.dup(2)
+            os.dup2(self._file.fileno(), 2)
+        except (OSError, ValueError, AttributeError):
+            self._restore()
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self._restore()
+
+    def _restore(self) -> None:
+        if self._saved is not None:
+            os.dup2(self._saved, 2)
+            os.close(self._saved)
+            self._saved = None
+        if self._file is not None:
+            self._file.seek(0)
+            self.text = self._file.read().decode("utf-8", "replace")
+            self._file.close()
+            self._file = None
+
+
+def _dae_expressions(model: CompiledModel, scaled_time: bool) -> tuple[dict, int]:
+    """The DAE dict for ca.integrator. With `scaled_time`, t = t_a + t_b * tau (t_a, t_b appended to
+    p) so one integrator over tau in [0, 1] serves every chunk of the run."""
+    nx, nz, npar = len(model.state_names), len(model.algebraic_names), len(model.parameter_names)
+    x = ca.SX.sym("x", nx)
+    z = ca.SX.sym("z", nz)
+    p = ca.SX.sym("p", npar)
+    t = ca.SX.sym("t")
+    if not scaled_time:
+        ode, alg = model.dae(x, z, p, t)
+        return {"x": x, "z": z, "p": p, "t": t, "ode": ode, "alg": alg}, npar
+    shift = ca.SX.sym("t_a")
+    span = ca.SX.sym("t_b")
+    ode, alg = model.dae(x, z, p, shift + span * t)
+    return {"x": x, "z": z, "p": ca.vertcat(p, shift, span), "t": t,
+            "ode": span * ode, "alg": alg}, npar + 2
+
+
+def _integrator_options(model: CompiledModel, rtol: float, atol, max_steps: int,
+                        extra: Mapping | None) -> dict:
+    # calc_ic: CasADi starts IDAS with der(x) = 0 unless told otherwise (measured: the error test
+    # then collapses h at t0 on an RC step), and init_xdot cannot change between chunks, so IDAS
+    # itself completes der(x) (and re-polishes z) from our consistent point at every (re)start.
+    opts = {"reltol": float(rtol), "max_num_steps": int(max_steps), "calc_ic": True,
+            "disable_internal_warnings": True, "show_eval_warnings": False}
+    names = model.state_names + model.algebraic_names
+    if isinstance(atol, Mapping) or model.nominals:
+        base = float(atol.get("*", 1e-6)) if isinstance(atol, Mapping) else float(atol)
+        per = {n: base * abs(model.nominals.get(n, 1.0)) for n in names}
+        if isinstance(atol, Mapping):
+            for name, value in atol.items():
+                if name == "*":
+                    continue
+                if name not in per:
+                    raise ModelInputError(f"atol given for '{name}', which is not a state or "
+                                          f"algebraic unknown of {model.name}"
+                                          + _did_you_mean(name, names))
+                per[name] = float(value)
+        opts["abstolv"] = [per[n] for n in names]
+        opts["abstol"] = base
+    else:
+        opts["abstol"] = float(atol)
+    opts.update(extra or {})
+    return opts
+
+
+def output_grid(start: float, stop: float, points: int, saveat: Sequence[float] | None) -> np.ndarray:
+    if saveat is not None:
+        grid = np.asarray(sorted(float(s) for s in saveat), dtype=float)
+        if grid.size == 0:
+            raise ModelInputError("saveat is empty")
+        if grid[0] < start or grid[-1] > stop:
+            raise ModelInputError(f"saveat times must lie in [start, stop] = [{start}, {stop}]")
+        if grid[0] > start:
+            grid = np.concatenate([[start], grid])
+        return np.unique(grid)
+    if not stop > start:
+        raise ModelInputError(f"stop time {stop} must be greater than start time {start}")
+    if points < 2:
+        raise ModelInputError(f"points must be at least 2, got {points}")
+    return np.linspace(start, stop, int(points))
+
+
+def simulate(model: CompiledModel, stop: float, *, start: float = 0.0, rtol: float = 1e-6,
+             atol: float | Mapping[str, float] = 1e-6, points: int = 501,
+             saveat: Sequence[float] | None = None, params: Mapping[str, float] | None = None,
+             max_steps: int = 100000, progress: bool | None = None, chunks: int | None = None,
+             integrator_options: Mapping | None = None) -> Result:
+    """Initialize consistently at `start`, integrate with IDAS to `stop`, evaluate all outputs.
+
+    `progress=None` shows a bar on a TTY stderr once the run takes more than 2 s. Showing progress
+    needs the run split into chunks (IDAS restarts at each chunk boundary, from the consistent
+    point it reached); without progress the run is one IDAS call. `chunks` forces a chunk count.
+    """
+    if model.state_sets:
+        raise SimulationFailed(f"model {model.name} needs dynamic state selection "
+                               f"({len(model.state_sets)} state sets), which is not supported yet",
+                               start, "dynamic state selection not supported")
+    grid = output_grid(float(start), float(stop), points, saveat)
+    start, stop = float(grid[0]), float(grid[-1])
+    p = model.parameter_vector(params)
+    stats: dict = {"compile_time": None}
+
+    began = _time.perf_counter()
+    point = consistent_initialization(model, p, start)
+    stats["init_time"] = _time.perf_counter() - began
+    stats["init_iterations"] = point.iterations
+    stats["init_residual"] = point.residual
+
+    show = (sys.stderr.isatty() if progress is None else bool(progress))
+    n_chunks = int(chunks) if chunks else (min(20, len(grid) - 1) if show else 1)
+    began = _time.perf_counter()
+    xs, zs, counters = _integrate(model, grid, p, point, rtol, atol, max_steps, n_chunks,
+                                  _Progress(show, start, stop), integrator_options)
+    stats["run_time"] = _time.perf_counter() - began
+    stats.update(counters)
+
+    began = _time.perf_counter()
+    values = _evaluate_outputs(model, xs, zs, p, grid)
+    stats["output_time"] = _time.perf_counter() - began
+    return Result(grid, model.output_names, values, stats, model.name)
+
+
+def _evaluate_outputs(model: CompiledModel, xs: np.ndarray, zs: np.ndarray, p: np.ndarray,
+                      grid: np.ndarray) -> np.ndarray:
+    n = len(grid)
+    if not model.output_names:
+        return np.zeros((0, n))
+    mapped = model.outputs.map(n)
+    out = mapped(xs, zs, np.repeat(p.reshape(-1, 1), n, axis=1), grid.reshape(1, -1))
+    return np.asarray(out, dtype=float).reshape(len(model.output_names), n)
+
+
+_COUNTERS = {"nsteps": "steps", "nfevals": "residual_evaluations", "n_call_jacF": "jacobian_evaluations",
+             "nlinsetups": "linear_solver_setups", "netfails": "error_test_failures",
+             "nniters": "newton_iterations", "nncfails": "newton_convergence_failures"}
+
+
+def _integrate(model, grid, p, point, rtol, atol, max_steps, n_chunks, progress, extra):
+    nx, nz = len(model.state_names), len(model.algebraic_names)
+    n = len(grid)
+    xs = np.empty((nx, n))
+    zs = np.empty((nz, n))
+    xs[:, 0], zs[:, 0] = point.x, point.z
+    counters = {v: 0 for v in _COUNTERS.values()}
+    counters["chunks"] = 0
+    opts = _integrator_options(model, rtol, atol, max_steps, extra)
+    if nx == 0 and nz == 0:
+        return xs, zs, counters
+
+    bounds = np.linspace(0, n - 1, max(1, min(n_chunks, n - 1)) + 1).round().astype(int)
+    uniform = n_chunks > 1 and np.allclose(np.diff(grid), grid[1] - grid[0], rtol=1e-9, atol=0)
+    dae, _ = _dae_expressions(model, scaled_time=uniform)
+    cache: dict[int, ca.Function] = {}
+    x, z = point.x, point.z
+    progress.update(grid[0])
+    try:
+        for a, b in zip(bounds[:-1], bounds[1:]):
+            if uniform:
+                # tau grid k/m (k = 1..m) reused by every chunk with m intervals.
+                m = b - a
+                if m not in cache:
+                    cache[m] = ca.integrator("dyad_idas", "idas", dae, 0.0,
+                                             [k / m for k in range(1, m + 1)], opts)
+                solver = cache[m]
+                pp = np.concatenate([p, [grid[a], grid[b] - grid[a]]])
+            else:
+                xdot = np.asarray(model.dae(x, z, p, grid[a])[0], dtype=float).reshape(-1)
+                solver = ca.integrator("dyad_idas", "idas", dae, float(grid[a]),
+                                       [float(v) for v in grid[a + 1:b + 1]],
+                                       dict(opts, init_xdot=list(xdot)))
+                pp = p
+            try:
+                with _CapturedStderr() as messages:
+                    sol = solver(x0=x, z0=z, p=pp)
+            except RuntimeError as err:
+                st = solver.stats()
+                reached = st.get("tcur", math.nan)
+                if uniform and math.isfinite(reached):
+                    reached = grid[a] + (grid[b] - grid[a]) * reached
+                reason = _idas_reason(str(err), messages.text)
+                raise SimulationFailed(f"simulation of {model.name} failed at t = {reached:.10g}: "
+                                       f"{reason}", float(reached), reason) from None
+            _accumulate(counters, solver.stats())
+            counters["chunks"] += 1
+            xs[:, a + 1:b + 1] = np.asarray(sol["xf"], dtype=float).reshape(nx, b - a)
+            zs[:, a + 1:b + 1] = np.asarray(sol["zf"], dtype=float).reshape(nz, b - a)
+            x, z = xs[:, b], zs[:, b]
+            progress.update(grid[b])
+    finally:
+        progress.close()
+    return xs, zs, counters
+
+
+def _accumulate(counters: dict, st: Mapping) -> None:
+    for key, name in _COUNTERS.items():
+        value = st.get(key)
+        if isinstance(value, (int, float)) and math.isfinite(value):
+            counters[name] += int(value)
