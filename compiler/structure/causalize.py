@@ -1,0 +1,83 @@
+"""From the index-1 system to assignments and residuals: matching, BLT, solve-for, tearing.
+
+Given the states (known to the algebraic problem), every other unknown is matched to an equation;
+the BLT blocks are solved in order: a scalar block linear in its unknown becomes an explicit
+assignment, every other block is torn: its torn unknowns go to IDAS as algebraic variables with
+the block's residual equations, the rest of the block becomes assignments.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import sympy
+
+from compiler.structure.graph.blt import block_lower_triangular
+from compiler.structure.graph.matching import maximum_matching
+from compiler.structure.graph.tearing import tear_block
+from compiler.structure.indexed import IndexedSystem
+
+
+@dataclass
+class Causalization:
+    assignments: list[tuple[int, int, sympy.Expr]]    # (equation, unknown, expression) in order
+    torn: list[int]                                    # unknowns solved by IDAS (algebraic z)
+    residual_equations: list[int]                      # their residual equations
+    block_sizes: list[int] = field(default_factory=list)
+    unmatched_eqs: list[int] = field(default_factory=list)
+    unmatched_vars: list[int] = field(default_factory=list)
+
+
+class LinearSolver:
+    """Answers 'can equation e be solved explicitly for unknown v' and caches the solution."""
+
+    def __init__(self, system: IndexedSystem):
+        self.system = system
+        self._cache: dict[tuple[int, int], sympy.Expr | None] = {}
+
+    def solution(self, e: int, v: int) -> sympy.Expr | None:
+        key = (e, v)
+        if key not in self._cache:
+            self._cache[key] = self._solve(e, v)
+        return self._cache[key]
+
+    def solvable(self, e: int, v: int) -> bool:
+        return self.solution(e, v) is not None
+
+    def _solve(self, e: int, v: int) -> sympy.Expr | None:
+        residual = self.system.equations[e]
+        sym = self.system.symbols[v]
+        coefficient = sympy.diff(residual, sym)
+        if coefficient == 0 or sym in coefficient.free_symbols:
+            return None
+        if coefficient.has(sympy.Piecewise, sympy.Heaviside, sympy.DiracDelta):
+            return None
+        rest = residual.xreplace({sym: sympy.Integer(0)})
+        return -rest / coefficient
+
+
+def causalize(system: IndexedSystem, is_known: list[bool]) -> Causalization:
+    unknowns = [v for v in range(system.n_vars) if not is_known[v]]
+    local = {v: i for i, v in enumerate(unknowns)}
+    incidence = [[local[v] for v in row if v in local] for row in system.incidence]
+    eq_to_local, local_to_eq = maximum_matching(system.n_eqs, len(unknowns), incidence)
+    unmatched_eqs = [e for e, m in enumerate(eq_to_local) if m < 0]
+    unmatched_vars = [unknowns[i] for i, m in enumerate(local_to_eq) if m < 0]
+    if unmatched_eqs or unmatched_vars:
+        return Causalization([], [], [], unmatched_eqs=unmatched_eqs, unmatched_vars=unmatched_vars)
+    blocks = block_lower_triangular(system.n_eqs, incidence, eq_to_local)
+    solver = LinearSolver(system)
+    result = Causalization([], [], [])
+    for eqs, local_vars in blocks:
+        block_vars = [unknowns[i] for i in local_vars]
+        result.block_sizes.append(len(eqs))
+        if len(eqs) == 1 and solver.solvable(eqs[0], block_vars[0]):
+            result.assignments.append((eqs[0], block_vars[0], solver.solution(eqs[0], block_vars[0])))
+            continue
+        tearing = tear_block(list(eqs), list(local_vars), incidence,
+                             lambda e, lv: solver.solvable(e, unknowns[lv]))
+        for e, lv in tearing.causal:
+            v = unknowns[lv]
+            result.assignments.append((e, v, solver.solution(e, v)))
+        result.torn.extend(unknowns[lv] for lv in tearing.tear_vars)
+        result.residual_equations.extend(tearing.residual_eqs)
+    return result

@@ -1,0 +1,44 @@
+"""The parameters a reduced system uses, closed over their bindings, in dependency order."""
+from __future__ import annotations
+
+import sympy
+
+from compiler.flat import FlatSystem
+from compiler.structure.reduced import ParameterInfo
+
+
+def used_parameters(flat: FlatSystem, expressions: list[sympy.Expr]) -> list[ParameterInfo]:
+    by_symbol = {sympy.Symbol(p.name): p for p in flat.parameters}
+    used: set[sympy.Symbol] = set()
+    pending = [s for e in expressions for s in e.free_symbols if s in by_symbol]
+    while pending:
+        s = pending.pop()
+        if s in used:
+            continue
+        used.add(s)
+        default = by_symbol[s].default
+        if default is not None:
+            pending.extend(d for d in default.free_symbols if d in by_symbol and d not in used)
+    ordered: list[ParameterInfo] = []
+    placed: set[sympy.Symbol] = set()
+
+    def place(s: sympy.Symbol) -> None:
+        stack = [(s, False)]
+        while stack:
+            sym, ready = stack.pop()
+            if sym in placed:
+                continue
+            p = by_symbol[sym]
+            deps = sorted((d for d in (p.default.free_symbols if p.default is not None else ())
+                           if d in by_symbol and d not in placed), key=lambda d: d.name)
+            if ready or not deps:
+                placed.add(sym)
+                binding = p.default if p.default is not None and p.default.free_symbols else None
+                ordered.append(ParameterInfo(p.name, float(p.value), binding, p.tunable))
+            else:
+                stack.append((sym, True))
+                stack.extend((d, False) for d in deps)
+
+    for s in sorted(used, key=lambda s: s.name):
+        place(s)
+    return ordered

@@ -1,0 +1,194 @@
+"""The structure stage: FlatSystem -> ReducedSystem, pass by pass, with a report of every pass."""
+from __future__ import annotations
+
+import time as _time
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy
+
+from compiler.errors import DyadError, Note
+from compiler.flat import FlatSystem, Origin
+from compiler.structure.alias import AliasResult, eliminate_aliases
+from compiler.structure.causalize import Causalization, causalize
+from compiler.structure.diagnostics import structural_singularity_error
+from compiler.structure.dummy_derivatives import DummySelection, base_variable, select_dummy_derivatives
+from compiler.structure.index_reduction import IndexReductionReport, reduce_index
+from compiler.structure.indexed import IndexedSystem, build_indexed
+from compiler.structure.initialization import build_initial_problem
+from compiler.structure.parameters import used_parameters
+from compiler.structure.prune import prune_assignments
+from compiler.structure.reduced import Assignment, ReducedSystem
+
+
+@dataclass
+class StructureReport:
+    """Everything `dyadc inspect` prints; kept beside the ReducedSystem, not inside the algorithms."""
+    counts: dict[str, int] = field(default_factory=dict)
+    timings: dict[str, float] = field(default_factory=dict)
+    structural_index: int = 0
+    states: list[str] = field(default_factory=list)
+    dummy_derivatives: list[str] = field(default_factory=list)
+    block_sizes: list[int] = field(default_factory=list)
+    torn: list[str] = field(default_factory=list)
+    pruned: list[str] = field(default_factory=list)
+    pivot_conditions: list[float] = field(default_factory=list)
+
+
+@dataclass
+class Analysis:
+    """Intermediate results a caller may re-use (e.g. to re-select states at another point)."""
+    alias: AliasResult
+    system: IndexedSystem
+    index_report: IndexReductionReport
+    priorities: dict[str, int]
+
+
+def analyse(flat: FlatSystem) -> Analysis:
+    alias = eliminate_aliases(flat)
+    system = build_indexed(alias.kept, alias.derivatives, [e.residual for e in alias.equations],
+                           [e.origin for e in alias.equations])
+    _check_square(flat, system)
+    reduced_system, index_report = reduce_index(system)
+    return Analysis(alias, reduced_system, index_report, _priorities(flat, alias))
+
+
+def reduce(flat: FlatSystem, point: dict[str, float] | None = None,
+           report: StructureReport | None = None, analysis: Analysis | None = None) -> ReducedSystem:
+    """`point` (values of unknowns and parameters) enables numeric pivoting of dummy derivatives."""
+    report = report if report is not None else StructureReport()
+    clock = _time.perf_counter()
+    if analysis is None:
+        analysis = analyse(flat)
+    report.timings["alias+index"] = _time.perf_counter() - clock
+    alias, system = analysis.alias, analysis.system
+    report.counts.update({
+        "flat variables": len(flat.variables), "flat equations": len(flat.equations),
+        "after alias: variables": len(alias.kept), "after alias: equations": len(alias.equations),
+        "differentiated equations": analysis.index_report.differentiated,
+        "index-1 equations": system.n_eqs, "index-1 unknowns": system.n_vars,
+    })
+    report.structural_index = analysis.index_report.structural_index
+
+    clock = _time.perf_counter()
+    selection = select_states(system, analysis.priorities, flat, point)
+    report.timings["dummy derivatives"] = _time.perf_counter() - clock
+    report.pivot_conditions = selection.pivot_conditions
+
+    clock = _time.perf_counter()
+    is_state = [False] * system.n_vars
+    for v in selection.states:
+        is_state[v] = True
+    causal = causalize(system, is_state)
+    if causal.unmatched_eqs or causal.unmatched_vars:
+        raise structural_singularity_error(system, unknown_mask=[not s for s in is_state])
+    report.timings["causalize"] = _time.perf_counter() - clock
+
+    reduced = _assemble(flat, alias, system, selection, causal, report)
+    reduced.statistics = {"counts": dict(report.counts), "structural_index": report.structural_index,
+                          "states": list(report.states), "dummy_derivatives": list(report.dummy_derivatives)}
+    return reduced
+
+
+def select_states(system: IndexedSystem, priorities: dict[str, int], flat: FlatSystem,
+                  point: dict[str, float] | None) -> DummySelection:
+    diff_to_var = system.diff_to_var()
+
+    def priority(v: int) -> int:
+        return priorities.get(system.names[base_variable(system, v, diff_to_var)], 0)
+
+    jacobian = _numeric_jacobian(system, flat, point) if point is not None else None
+    selection = select_dummy_derivatives(system, priority, jacobian)
+    if selection.deficient:
+        rows = [e for level in selection.levels for e in level[0]]
+        raise DyadError("index reduction failed: the differentiated constraints do not determine "
+                        "enough derivatives (the mechanism is singular or over-constrained here)",
+                        next((system.origins[e].span for e in rows if system.origins[e]), None),
+                        notes=[Note(str(system.equations[e]), system.origins[e].span if system.origins[e] else None)
+                               for e in rows[:6]])
+    return selection
+
+
+def _numeric_jacobian(system: IndexedSystem, flat: FlatSystem, point: dict[str, float]):
+    values = {sympy.Symbol(k): v for k, v in point.items()}
+    values.update({sympy.Symbol(p.name): p.value for p in flat.parameters if p.value is not None})
+
+    def jacobian(rows: list[int], cols: list[int]) -> np.ndarray:
+        out = np.zeros((len(rows), len(cols)))
+        col_index = {v: j for j, v in enumerate(cols)}
+        for i, e in enumerate(rows):
+            for v in system.incidence[e]:
+                j = col_index.get(v)
+                if j is None:
+                    continue
+                partial = sympy.diff(system.equations[e], system.symbols[v])
+                try:
+                    out[i, j] = float(partial.xreplace(values))
+                except (TypeError, ValueError):
+                    out[i, j] = np.nan
+        if np.isnan(out).any():
+            return None          # the point does not cover these unknowns: fall back to structure
+        return out
+
+    return jacobian
+
+
+def _priorities(flat: FlatSystem, alias: AliasResult) -> dict[str, int]:
+    priorities = {v.name: v.state_priority for v in flat.variables}
+    for name, expr in alias.eliminated.items():
+        kept = [s.name for s in expr.free_symbols if s.name in priorities]
+        if len(kept) == 1 and priorities[name] > priorities[kept[0]]:
+            priorities[kept[0]] = priorities[name]
+    return priorities
+
+
+def _check_square(flat: FlatSystem, system: IndexedSystem) -> None:
+    diff_to_var = system.diff_to_var()
+    chains = sum(1 for v in range(system.n_vars) if diff_to_var[v] < 0)
+    if chains != system.n_eqs:
+        raise structural_singularity_error(system)
+
+
+def _assemble(flat, alias, system, selection, causal: Causalization, report) -> ReducedSystem:
+    names = system.names
+    states = [names[v] for v in selection.states]
+    ode = [system.symbols[system.var_to_diff[v]] for v in selection.states]
+    algebraics = [names[v] for v in causal.torn]
+    alg = [system.equations[e] for e in causal.residual_equations]
+    assignments = [Assignment(names[v], expr, system.origins[e]) for e, v, expr in causal.assignments]
+    kept, pruned = prune_assignments(assignments, ode + alg)
+    alias_observables = [Assignment(name, expr, None) for name, expr in alias.eliminated.items()]
+    observables = pruned + alias_observables
+
+    report.states = states
+    report.dummy_derivatives = [names[v] for v in selection.dummies]
+    report.block_sizes = causal.block_sizes
+    report.torn = algebraics
+    report.pruned = [a.target for a in pruned]
+    report.counts.update({"states": len(states), "algebraic (IDAS)": len(algebraics),
+                          "assignments": len(kept), "observables": len(observables)})
+
+    guesses = _guesses(flat)
+    initial = build_initial_problem(flat, alias, states, algebraics, alg,
+                                    [system.origins[e] for e in causal.residual_equations],
+                                    kept, observables, guesses)
+    expressions = ode + alg + [a.expr for a in kept] + [a.expr for a in observables] + initial.residuals
+    parameters = used_parameters(flat, expressions)
+    return ReducedSystem(
+        name=flat.name, states=states, ode=ode, algebraics=algebraics, alg=alg,
+        assignments=kept, observables=observables, parameters=parameters, initial=initial,
+        output_names=[v.name for v in flat.variables],
+        alg_origins=[system.origins[e] for e in causal.residual_equations],
+        metadata=dict(flat.metadata),
+    )
+
+
+def _guesses(flat: FlatSystem) -> dict[str, float]:
+    guesses = {}
+    for v in flat.variables:
+        for value in (v.guess, v.start):
+            if value is not None:
+                guesses[v.name] = float(value)
+                break
+    guesses.update({k: float(v) for k, v in flat.guesses.items()})
+    return guesses

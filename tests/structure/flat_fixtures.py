@@ -1,0 +1,34 @@
+"""Hand-built FlatSystems for testing the structure stage without the front end."""
+from __future__ import annotations
+
+import sympy
+
+from compiler.flat import ALGEBRAIC, STATE_CANDIDATE, Equation, FlatSystem, Origin, Parameter, Variable
+
+
+def build(name, variables, parameters, equations, initial=(), derivatives=None):
+    """variables: list of (name, kind, start, priority); equations: list of sympy residuals."""
+    vs = [Variable(n, kind, start=start, state_priority=prio) for n, kind, start, prio in variables]
+    ps = [Parameter(n, float(v), sympy.Float(v)) for n, v in parameters]
+    eqs = [Equation(r, Origin(name)) for r in equations]
+    init = [Equation(r, Origin(name)) for r in initial]
+    ders = derivatives or {f"der({v.name})": v.name for v in vs if v.kind == STATE_CANDIDATE}
+    return FlatSystem(name, vs, ps, eqs, init, ders)
+
+
+def S(name):
+    return sympy.Symbol(name)
+
+
+def D(name):
+    return sympy.Symbol(f"der({name})")
+
+
+def cartesian_pendulum(x0=1.0, y0=0.0, L=1.0, g=9.81, redundant=False):
+    x, y, u, v, T = (S(n) for n in "x y u v T".split())
+    Ls, gs = S("L"), S("g")
+    eqs = [D("x") - u, D("y") - v, D("u") + T * x, D("v") + T * y + gs, x**2 + y**2 - Ls**2]
+    initial = [x - x0, u] + ([y - y0] if redundant else [])
+    variables = [("x", STATE_CANDIDATE, x0, 0), ("y", STATE_CANDIDATE, y0, 0),
+                 ("u", STATE_CANDIDATE, 0.0, 0), ("v", STATE_CANDIDATE, 0.0, 0), ("T", ALGEBRAIC, None, 0)]
+    return build("Pendulum", variables, [("L", L), ("g", g)], eqs, initial)
