@@ -9,6 +9,9 @@ variable), and as many residual equations as tear variables. Greedy rules:
    (number of equations it would immediately make causal, number of equations it occurs in,
    lowest index); the first term counts remaining equations with exactly two unknowns that
    are solvable for the other one.
+3. Afterwards, each tear variable is dropped again if the others alone still let every
+   variable be computed (checked by causal propagation, which is exact for a fixed tear set);
+   this pass is skipped for blocks too large for its O(tears * entries) cost.
 Minimal tearing is NP-hard; this aims for few tear variables in near-linear time.
 """
 from __future__ import annotations
@@ -17,6 +20,9 @@ import heapq
 from collections import deque
 from collections.abc import Callable
 from dataclasses import dataclass
+
+# Upper bound on (tear variables x block entries) for the tear-dropping pass.
+_REFINEMENT_BUDGET = 2_000_000
 
 
 @dataclass
@@ -159,5 +165,64 @@ class _GreedyTearing:
             tear = self.next_tear()
             self.tear_vars.append(self.vars[tear])
             self.mark_known(tear)
+        entries = sum(len(row) for row in self.rows)
+        if self.tear_vars and len(self.tear_vars) * entries <= _REFINEMENT_BUDGET:
+            return self.drop_redundant_tears()
         return TearingResult(tear_vars=self.tear_vars, residual_eqs=self.residual_eqs,
                              causal=self.causal)
+
+    def propagate(self, local_tears: list[int]) -> tuple[list[int], list[tuple[int, int]]] | None:
+        """Causalize with a fixed tear set: (residual local eqs, causal local pairs), or None if
+        some variable stays undetermined. The known set only grows, so the order of
+        assignments cannot change whether propagation succeeds."""
+        known = [False] * len(self.vars)
+        unknown_count = [len(row) for row in self.rows]
+        done = [False] * len(self.eqs)
+        residual: list[int] = []
+        causal: list[tuple[int, int]] = []
+        ready = deque(local_eq for local_eq, count in enumerate(unknown_count) if count <= 1)
+        pending_vars = deque(local_tears)
+        known_count = 0
+        while True:
+            while pending_vars:
+                local_var = pending_vars.popleft()
+                if known[local_var]:
+                    continue
+                known[local_var] = True
+                known_count += 1
+                for local_eq in self.columns[local_var]:
+                    unknown_count[local_eq] -= 1
+                    if unknown_count[local_eq] <= 1 and not done[local_eq]:
+                        ready.append(local_eq)
+            if not ready:
+                break
+            local_eq = ready.popleft()
+            if done[local_eq]:
+                continue
+            unknowns = [local for local in self.rows[local_eq] if not known[local]]
+            if len(unknowns) == 1 and self.is_solvable(local_eq, unknowns[0]):
+                done[local_eq] = True
+                causal.append((local_eq, unknowns[0]))
+                pending_vars.append(unknowns[0])
+            elif not unknowns:
+                done[local_eq] = True
+                residual.append(local_eq)
+        if known_count < len(self.vars):
+            return None
+        residual.extend(local_eq for local_eq in range(len(self.eqs)) if not done[local_eq])
+        return residual, causal
+
+    def drop_redundant_tears(self) -> TearingResult:
+        local_var = {var: local for local, var in enumerate(self.vars)}
+        tears = [local_var[var] for var in self.tear_vars]
+        outcome = self.propagate(tears)
+        for candidate in list(reversed(tears)):
+            remaining = [local for local in tears if local != candidate]
+            attempt = self.propagate(remaining)
+            if attempt is not None:
+                tears, outcome = remaining, attempt
+        assert outcome is not None, "greedy tear set must causalize the block"
+        residual, causal = outcome
+        return TearingResult(tear_vars=[self.vars[local] for local in tears],
+                             residual_eqs=[self.eqs[local_eq] for local_eq in residual],
+                             causal=[(self.eqs[e], self.vars[v]) for e, v in causal])
