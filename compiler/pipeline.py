@@ -1,0 +1,57 @@
+"""The whole compiler as one function per stage boundary, with timings for every stage."""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Sequence
+
+from compiler.flat import FlatSystem
+from compiler.lower_casadi import lower
+from compiler.runtime import CompiledModel
+from compiler.structure.reduce import StructureReport, analyse, reduce
+from compiler.structure.reduced import ReducedSystem
+
+
+@dataclass
+class Compilation:
+    flat: FlatSystem
+    reduced: ReducedSystem
+    model: CompiledModel
+    report: StructureReport
+    timings: dict[str, float] = field(default_factory=dict)
+
+
+def flatten_spec(spec: str, lib_dirs: Sequence[str] = ()) -> tuple[FlatSystem, dict[str, float]]:
+    from compiler.flatten import flatten_model
+    began = time.perf_counter()
+    flat = flatten_model(spec, list(lib_dirs))
+    return flat, {"parse+flatten": time.perf_counter() - began}
+
+
+def start_point(flat: FlatSystem) -> dict[str, float]:
+    """What is known before any solve: start values, guesses, parameter values."""
+    point = {}
+    for v in flat.variables:
+        value = v.start if v.start is not None else v.guess
+        if value is not None:
+            point[v.name] = float(value)
+    point.update({k: float(v) for k, v in flat.guesses.items()})
+    return point
+
+
+def compile_flat(flat: FlatSystem, timings: dict[str, float] | None = None) -> Compilation:
+    timings = dict(timings or {})
+    report = StructureReport()
+    began = time.perf_counter()
+    analysis = analyse(flat)
+    reduced = reduce(flat, point=start_point(flat), report=report, analysis=analysis)
+    timings["structure"] = time.perf_counter() - began
+    began = time.perf_counter()
+    model = lower(reduced)
+    timings["lower"] = time.perf_counter() - began
+    return Compilation(flat, reduced, model, report, timings)
+
+
+def compile_spec(spec: str, lib_dirs: Sequence[str] = ()) -> Compilation:
+    flat, timings = flatten_spec(spec, lib_dirs)
+    return compile_flat(flat, timings)

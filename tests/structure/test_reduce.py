@@ -1,0 +1,109 @@
+"""The structure stage on hand-built flat systems (no front end involved)."""
+import math
+
+import numpy as np
+import pytest
+import sympy
+
+from compiler import runtime
+from compiler.errors import DyadError
+from compiler.flat import ALGEBRAIC, STATE_CANDIDATE
+from compiler.lower_casadi import lower
+from compiler.pipeline import compile_flat
+from compiler.structure.alias import eliminate_aliases
+from compiler.structure.reduce import StructureReport, reduce
+from tests.reference import pendulum as closed_form
+from tests.structure.flat_fixtures import D, S, build, cartesian_pendulum
+
+G = closed_form.G
+
+
+def test_cartesian_pendulum_is_index_3_with_two_states():
+    report = StructureReport()
+    reduced = reduce(cartesian_pendulum(g=G), report=report)
+    assert report.structural_index == 3
+    assert len(reduced.states) == 2
+    assert report.counts["differentiated equations"] == 4
+
+
+@pytest.mark.parametrize("theta0", [0.5, 2.0])
+def test_pivoting_at_the_start_point_picks_the_well_conditioned_coordinate(theta0):
+    # Near the bottom x is the good state (y is flat in x there); near horizontal, y.
+    x0, y0 = math.sin(theta0), -math.cos(theta0)
+    compilation = compile_flat(cartesian_pendulum(x0=x0, y0=y0, g=G))
+    expected = {"x", "u"} if abs(y0) > abs(x0) else {"y", "v"}
+    assert set(compilation.reduced.states) == expected
+
+
+def test_cartesian_pendulum_matches_the_closed_form_to_8_digits():
+    theta0 = 0.5
+    flat = cartesian_pendulum(x0=math.sin(theta0), y0=-math.cos(theta0), g=G)
+    model = compile_flat(flat).model
+    result = runtime.simulate(model, 10.0, rtol=1e-10, atol=1e-10, points=201)
+    exact = closed_form.solution(result.time, L=1.0, theta0=theta0, g=G)
+    assert np.max(np.abs(result["x"] - exact["x"])) < 1e-8
+    assert np.max(np.abs(result["y"] - exact["y"])) < 1e-8
+    assert np.max(np.abs(result["x"] ** 2 + result["y"] ** 2 - 1.0)) < 1e-10
+    # tension per unit mass (T multiplies the position in der(u) = -T x)
+    assert np.max(np.abs(result["T"] - exact["tension"])) < 1e-6
+
+
+def test_redundant_consistent_initial_conditions_are_accepted():
+    theta0 = 0.5
+    flat = cartesian_pendulum(x0=math.sin(theta0), y0=-math.cos(theta0), g=G, redundant=True)
+    result = runtime.simulate(compile_flat(flat).model, 1.0, rtol=1e-8, atol=1e-8, points=11)
+    assert abs(result["y"][0] + math.cos(theta0)) < 1e-12
+
+
+def test_inconsistent_initial_conditions_name_the_residuals():
+    flat = cartesian_pendulum(x0=0.5, y0=-0.5, g=G, redundant=True)   # not on the circle
+    with pytest.raises(runtime.InitializationFailed, match="residual"):
+        runtime.simulate(compile_flat(flat).model, 1.0, points=3)
+
+
+def test_missing_initial_condition_names_the_free_state():
+    x, u = S("x"), S("u")
+    flat = build("Oscillator", [("x", STATE_CANDIDATE, None, 0), ("u", STATE_CANDIDATE, None, 0)], [("k", 4.0)],
+                 [D("x") - u, D("u") + S("k") * x], initial=[x - 1])
+    with pytest.raises(DyadError, match="under-determined.*u"):
+        reduce(flat)
+
+
+def test_structurally_singular_system_names_the_culprits():
+    a, b, c = S("a"), S("b"), S("c")
+    flat = build("Bad", [("a", ALGEBRAIC, None, 0), ("b", ALGEBRAIC, None, 0), ("c", ALGEBRAIC, None, 0)], [],
+                 [a + b - 1, 2 * a + 2 * b - 3 + sympy.sin(a) * 0, a * b + c - c])
+    with pytest.raises(DyadError, match="structurally singular.*c"):
+        reduce(flat)
+
+
+def test_alias_elimination_follows_signs_offsets_and_derivatives():
+    a, b, c, d = S("sub.a"), S("b"), S("c"), S("d")
+    flat = build("Aliases", [("sub.a", ALGEBRAIC, None, 0), ("b", STATE_CANDIDATE, None, 0),
+                             ("c", ALGEBRAIC, None, 0), ("d", ALGEBRAIC, None, 0)], [("p", 2.0)],
+                 [a - b, c + b, d - c - S("p"), D("b") + d])
+    result = eliminate_aliases(flat)
+    assert result.kept == ["b"]
+    assert result.eliminated["sub.a"] == b
+    assert result.eliminated["c"] == -b
+    assert sympy.simplify(result.eliminated["d"] - (-b + S("p"))) == 0
+    (remaining,) = result.equations
+    assert sympy.simplify(remaining.residual - (D("b") - b + S("p"))) == 0
+
+
+def test_alias_of_a_state_candidate_maps_its_derivative():
+    x, y = S("x"), S("y")
+    flat = build("Der", [("x", STATE_CANDIDATE, None, 0), ("y", ALGEBRAIC, None, 5)], [],
+                 [x + y, D("x") + x])
+    result = eliminate_aliases(flat)
+    # x is the state candidate: it stays, y = -x becomes an observable
+    assert result.kept == ["x"] and result.eliminated["y"] == -x
+
+
+def test_constants_propagate_through_substitution_to_a_fixpoint():
+    phi, r0, xb = S("phi"), S("r0"), S("xb")
+    flat = build("Chain", [("phi", ALGEBRAIC, None, 0), ("r0", ALGEBRAIC, None, 0), ("xb", ALGEBRAIC, None, 0)],
+                 [("r", 0.5)], [phi, r0 - sympy.cos(phi) * S("r"), xb - r0 - 1])
+    result = eliminate_aliases(flat)
+    assert result.kept == [] and result.equations == []
+    assert result.eliminated["xb"] == S("r") + 1
