@@ -2,19 +2,217 @@
 from __future__ import annotations
 
 import argparse
+import os
 import sys
+from pathlib import Path
 
 from compiler.errors import DyadError
 
+DESCRIPTION = """\
+dyadc compiles acausal models written in a Dyad-like language into CasADi functions and
+simulates them with SUNDIALS IDAS.
+
+A MODEL is `path/File.dyad` (the component named like the file), `path/File.dyad:Name`,
+or a qualified name on the library path (components/, --lib DIR, $DYAD_PATH), e.g.
+MultibodyComponents.PlanarMechanics.examples.excavator.Excavator.
+"""
+
+EXAMPLES = """\
+examples:
+  dyadc check components
+  dyadc simulate MultibodyComponents.PlanarMechanics.examples.excavator.Excavator --stop 12 --output out/excavator.csv
+  dyadc simulate tests/models/Pendulum.dyad --stop 5 -p body.m=2 --vars body.frame_a.x --plot pendulum.png
+  dyadc inspect MultibodyComponents.PlanarMechanics.examples.excavator.Excavator
+"""
+
+
+def _add_model(p: argparse.ArgumentParser) -> None:
+    p.add_argument("model", metavar="MODEL", help="model file, file:Name, or qualified name")
+    p.add_argument("--lib", action="append", default=[], metavar="DIR",
+                   help="extra library directory (repeatable)")
+
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="dyadc",
-        description="dyadc compiles Dyad-like acausal models to CasADi and simulates them with IDAS.",
-    )
+    parser = argparse.ArgumentParser(prog="dyadc", description=DESCRIPTION, epilog=EXAMPLES,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
+
+    p = sub.add_parser("parse", help="parse a .dyad file and print its definitions")
+    p.add_argument("file", metavar="FILE")
+    p.set_defaults(run=_cmd_parse)
+
+    p = sub.add_parser("fmt", help="reprint a .dyad file in canonical form")
+    p.add_argument("file", metavar="FILE")
+    p.add_argument("--write", "-w", action="store_true", help="rewrite the file in place")
+    p.set_defaults(run=_cmd_fmt)
+
+    p = sub.add_parser("check", help="flatten a model (or every model under a directory) and check balance")
+    _add_model(p)
+    p.set_defaults(run=_cmd_check)
+
+    p = sub.add_parser("flatten", help="print the flat equations with their origins")
+    _add_model(p)
+    p.set_defaults(run=_cmd_flatten)
+
+    p = sub.add_parser("inspect", help="print every pass of the structural analysis")
+    _add_model(p)
+    p.set_defaults(run=_cmd_inspect)
+
+    p = sub.add_parser("compile", help="write a standalone Python module for a model")
+    _add_model(p)
+    p.add_argument("-o", "--output-dir", default="generated", metavar="DIR")
+    p.add_argument("--name", help="module name (default: the model name in snake_case)")
+    p.set_defaults(run=_cmd_compile)
+
+    p = sub.add_parser("simulate", help="compile and simulate a model")
+    _add_model(p)
+    p.add_argument("--start", type=float, default=0.0, metavar="T0")
+    p.add_argument("--stop", type=float, required=True, metavar="T")
+    p.add_argument("--rtol", type=float, default=1e-6, metavar="R")
+    p.add_argument("--atol", type=float, default=1e-6, metavar="A")
+    grid = p.add_mutually_exclusive_group()
+    grid.add_argument("--points", type=int, default=501, metavar="N", help="output points (default 501)")
+    grid.add_argument("--saveat", type=float, metavar="DT", help="output interval instead of --points")
+    p.add_argument("-p", dest="params", action="append", default=[], metavar="NAME=VALUE",
+                   help="override a parameter by dotted path (repeatable)")
+    p.add_argument("--vars", nargs="+", metavar="NAME", help="signals to write (default: all)")
+    p.add_argument("--output", metavar="FILE.csv", help="write the result as CSV")
+    p.add_argument("--plot", metavar="FILE.png", help="plot the result")
+    p.add_argument("--codegen", choices=["c"], help="compile the model to C with gcc")
+    p.set_defaults(run=_cmd_simulate)
+
+    p = sub.add_parser("generate", help="regenerate the committed modules in generated/")
+    p.add_argument("-o", "--output-dir", default="generated", metavar="DIR")
+    p.set_defaults(run=_cmd_generate)
     return parser
+
+
+# ----------------------------------------------------------------------------------------- commands
+
+def _cmd_parse(args) -> int:
+    from compiler.syntax.parser import parse_file, summarize
+    print(summarize(parse_file(args.file)))
+    return 0
+
+
+def _cmd_fmt(args) -> int:
+    from compiler.syntax.format import format_file
+    from compiler.syntax.parser import parse_file
+    text = format_file(parse_file(args.file))
+    if args.write:
+        Path(args.file).write_text(text, encoding="utf-8")
+    else:
+        sys.stdout.write(text)
+    return 0
+
+
+def _cmd_check(args) -> int:
+    from compiler.flatten import check_balance, check_library, flatten_model, summarize
+    if os.path.isdir(args.model):
+        problems = check_library(args.model)
+        for line in problems:
+            print(line)
+        return 1 if any("error" in line for line in problems) else 0
+    flat = flatten_model(args.model, args.lib)
+    check_balance(flat)
+    print(summarize(flat))
+    return 0
+
+
+def _cmd_flatten(args) -> int:
+    from compiler.flatten import flatten_model, format_flat
+    print(format_flat(flatten_model(args.model, args.lib)))
+    return 0
+
+
+def _cmd_inspect(args) -> int:
+    from compiler.inspect_report import format_report
+    from compiler.pipeline import compile_spec
+    print(format_report(compile_spec(args.model, args.lib)))
+    return 0
+
+
+def _cmd_compile(args) -> int:
+    from compiler.codegen import write_module
+    from compiler.pipeline import compile_spec
+    compilation = compile_spec(args.model, args.lib)
+    name = args.name or _snake(compilation.model.name.split(".")[-1])
+    path = write_module(compilation.model, name, args.output_dir)
+    print(f"wrote {path}")
+    return 0
+
+
+def _cmd_simulate(args) -> int:
+    from compiler.api import simulate_compiled
+    from compiler.pipeline import compile_spec
+    params = dict(_parse_assignment(text) for text in args.params)
+    compilation = compile_spec(args.model, args.lib)
+    if args.codegen == "c":
+        from compiler.ccodegen import use_c_code
+        compilation.model = use_c_code(compilation.model)
+    saveat = None
+    if args.saveat is not None:
+        if args.saveat <= 0:
+            raise DyadError(f"--saveat must be positive, got {args.saveat}")
+        import numpy as np
+        saveat = np.arange(args.start, args.stop + 0.5 * args.saveat, args.saveat)
+        saveat[-1] = min(saveat[-1], args.stop)
+    result = simulate_compiled(compilation, args.stop, start=args.start, rtol=args.rtol, atol=args.atol,
+                               points=args.points, saveat=saveat, params=params)
+    names = args.vars or None
+    if names:
+        for n in names:
+            result[n]           # unknown names fail before anything is written
+    if args.output:
+        Path(args.output).parent.mkdir(parents=True, exist_ok=True)
+        result.to_csv(args.output, names)
+    if args.plot:
+        Path(args.plot).parent.mkdir(parents=True, exist_ok=True)
+        result.plot(args.plot, names)
+    stats = result.stats
+    print(f"simulated {compilation.model.name} from {args.start:g} to {args.stop:g} s: "
+          f"{stats.get('steps')} steps, compile {stats.get('compile_time', 0):.2f} s, "
+          f"run {stats.get('run_time', 0):.2f} s", file=sys.stderr)
+    if not args.output and not args.plot:
+        _print_final(result, names)
+    return 0
+
+
+def _cmd_generate(args) -> int:
+    from compiler.generate import generate_all
+    for path in generate_all(args.output_dir):
+        print(f"wrote {path}")
+    return 0
+
+
+# ------------------------------------------------------------------------------------------ helpers
+
+def _parse_assignment(text: str) -> tuple[str, float]:
+    name, sep, value = text.partition("=")
+    if not sep or not name.strip():
+        raise DyadError(f"bad parameter override `{text}`", hint="write -p NAME=VALUE, e.g. -p boom.m=200")
+    try:
+        return name.strip(), float(value)
+    except ValueError:
+        raise DyadError(f"bad parameter override `{text}`: `{value}` is not a number") from None
+
+
+def _print_final(result, names) -> None:
+    names = names or result.names
+    width = max((len(n) for n in names), default=4)
+    print(f"{'time':<{width}}  {result.time[-1]:.10g}")
+    for n in names:
+        print(f"{n:<{width}}  {result[n][-1]:.10g}")
+
+
+def _snake(name: str) -> str:
+    out = []
+    for i, ch in enumerate(name):
+        if ch.isupper() and i and not name[i - 1].isupper():
+            out.append("_")
+        out.append(ch.lower())
+    return "".join(out)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -25,3 +223,16 @@ def main(argv: list[str] | None = None) -> int:
     except DyadError as err:
         print(err.format(), file=sys.stderr)
         return 1
+    except KeyboardInterrupt:
+        print("interrupted", file=sys.stderr)
+        return 130
+    except Exception as err:          # a bug of ours: say so briefly, the traceback only on request
+        if os.environ.get("DYADC_DEBUG"):
+            raise
+        from compiler.runtime import ModelInputError, SimulationFailed
+        if isinstance(err, (ModelInputError, SimulationFailed)):
+            print(f"error: {err}", file=sys.stderr)
+            return 1
+        print(f"internal error: {type(err).__name__}: {err}\n"
+              "this is a bug in dyadc; rerun with DYADC_DEBUG=1 for the traceback", file=sys.stderr)
+        return 2
