@@ -9,6 +9,7 @@ from compiler.structure.graph import (
     UNMATCHED,
     StructurallySingular,
     derivative_families,
+    invert_derivative_chain,
     pantelides,
     structural_index,
 )
@@ -251,3 +252,12 @@ def test_random_daes_reduce_or_are_reported_singular(structure):
         derivatives = {d for d in var_to_diff if d != UNMATCHED}
         has_algebraic = any(var not in derivatives for var in result.eq_to_var if var != UNMATCHED)
         assert index == (1 if has_algebraic else 0)
+
+
+def test_derivative_families_and_inverse_chain():
+    # x=0 -> der(x)=2 -> der(der(x))=3; y=1 has no derivative.
+    var_to_diff = [2, UNMATCHED, 3, UNMATCHED]
+    assert derivative_families(var_to_diff) == [0, 1, 0, 0]
+    assert invert_derivative_chain(var_to_diff) == [UNMATCHED, UNMATCHED, 0, 2]
+    with pytest.raises(ValueError):
+        derivative_families([1, 0])
