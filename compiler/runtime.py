@@ -19,6 +19,7 @@ import casadi as ca
 import numpy as np
 
 FORMAT_VERSION = 1
+PROGRESS_DELAY = 2.0        # seconds of run time before a progress bar appears
 
 # Readable explanations of the IDAS return flags that CasADi reports.
 _IDAS_REASONS = {
@@ -407,10 +408,10 @@ def _atomic_write(path: str | os.PathLike, write: Callable, binary: bool = False
 class _Progress:
     """A one-line bar on stderr, shown only once the run has taken longer than `after` seconds."""
 
-    def __init__(self, enabled: bool, start: float, stop: float, after: float = 2.0):
+    def __init__(self, enabled: bool, start: float, stop: float, after: float | None = None):
         self.enabled = enabled
         self.start, self.stop = start, stop
-        self.after = after
+        self.after = PROGRESS_DELAY if after is None else after
         self.began = _time.perf_counter()
         self.shown = False
 

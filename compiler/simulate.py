@@ -47,10 +47,16 @@ def runtime_errors(reduced: ReducedSystem | None = None) -> Iterator[None]:
         yield
     except runtime.InitializationFailed as err:
         origins = reduced.initial.origins if reduced is not None else []
-        notes = [Note(f"residual = {value:.6g}: {label}",
-                      getattr(origins[index], "span", None) if index < len(origins) else None)
-                 for index, value, label in err.worst]
-        error = SimulationError(str(err).split("\n")[0], err.time_reached, err.reason,
+        notes = []
+        for index, value, label in err.worst:
+            origin = origins[index] if index < len(origins) else None
+            if origin is not None and getattr(origin, "span", None) is not None:
+                notes.append(Note(f"this initial condition ({origin.path or '<model>'}) is off by "
+                                  f"{value:.6g}", origin.span))
+            else:
+                notes.append(Note(f"{label} is off by {value:.6g}"))
+        error = SimulationError(str(err).split("\n")[0].replace("; largest residuals:", ""),
+                                err.time_reached, err.reason,
                                 hint="check the initial equations and values named in the notes; "
                                      "guesses only seed the solver")
         error.notes = notes
