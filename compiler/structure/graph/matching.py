@@ -46,7 +46,8 @@ def maximum_matching(n_eqs: int, n_vars: int, incidence: list[list[int]], *,
     """Maximum cardinality matching (Hopcroft–Karp, O(E sqrt(V))).
 
     `var_allowed[v] == False` excludes variable v. `eq_order` is the order in which equations are
-    considered (it only influences which of several maximum matchings is returned). `var_weight`:
+    considered; it influences which of several maximum matchings is returned, and equations
+    it leaves out stay unmatched (a maximum matching of the listed ones). `var_weight`:
     a greedy initial pass matches each equation to its free variable of highest weight before the
     augmenting phases; see `_greedy_initial_matching`.
     Returns (eq_to_var, var_to_eq), -1 for unmatched.
@@ -146,7 +147,7 @@ def augmenting_path(eq: int, incidence: list[list[int]], eq_to_var: list[int],
     """
     if eq_to_var[eq] != UNMATCHED:
         raise ValueError(f"augmenting_path: equation {eq} is already matched")
-    allowed = _allowed_or_all(len(var_to_eq), var_allowed)
+    allowed = var_allowed
     visited_eqs = [eq]
     visited_vars: list[int] = []
     seen_vars: set[int] = set()
@@ -158,7 +159,7 @@ def augmenting_path(eq: int, incidence: list[list[int]], eq_to_var: list[int],
         neighbours = incidence[current]
         if cursors[-1] == 0:
             for var in neighbours:
-                if allowed[var] and var_to_eq[var] == UNMATCHED:
+                if (allowed is None or allowed[var]) and var_to_eq[var] == UNMATCHED:
                     path_vars.append(var)
                     for path_eq, path_var in zip(path_eqs, path_vars):
                         eq_to_var[path_eq] = path_var
@@ -171,7 +172,7 @@ def augmenting_path(eq: int, incidence: list[list[int]], eq_to_var: list[int],
         while cursors[-1] < len(neighbours):
             var = neighbours[cursors[-1]]
             cursors[-1] += 1
-            if not allowed[var] or var in seen_vars:
+            if (allowed is not None and not allowed[var]) or var in seen_vars:
                 continue
             seen_vars.add(var)
             visited_vars.append(var)

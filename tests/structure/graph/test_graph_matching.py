@@ -141,3 +141,10 @@ def test_repeated_augmenting_paths_reach_a_maximum_matching(structure):
             assert len(visited_eqs) == len(visited_vars) + 1
     assert_valid_matching(incidence, eq_to_var, var_to_eq)
     assert matched_count(eq_to_var) == scipy_matching_size(n_eqs, n_vars, incidence)
+
+
+def test_equations_left_out_of_the_order_stay_unmatched():
+    incidence = [[0, 1], [1], [0]]
+    eq_to_var, var_to_eq = maximum_matching(3, 2, incidence, eq_order=[2, 0])
+    assert eq_to_var == [1, UNMATCHED, 0]
+    assert var_to_eq == [2, 0]
