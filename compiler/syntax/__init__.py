@@ -1,0 +1,1 @@
+"""The language front end: grammar, parser to AST, diagnostics and the canonical formatter."""

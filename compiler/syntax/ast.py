@@ -26,6 +26,8 @@ def metadata_dict(metadata: str | None) -> dict:
 class Number:
     value: float | int          # SI suffixes already applied: `10k` -> 10000.0
     span: Span | None = _NO_SPAN
+    # The literal as written (`3e4`, `10k`); only for faithful reprinting, not compared.
+    text: str | None = field(default=None, compare=False, repr=False)
 
 
 @dataclass(frozen=True)
@@ -218,6 +220,7 @@ class Extends:
     modifications: tuple[Modification, ...] = ()
     metadata: str | None = None
     span: Span | None = _NO_SPAN
+    doc: str | None = None
 
 
 Declaration = Union[ParameterDecl, VariableDecl, ComponentDecl]
@@ -239,6 +242,7 @@ class Guess:
     target: Ref
     value: "Expr"
     span: Span | None = _NO_SPAN
+    doc: str | None = None
 
 
 @dataclass(frozen=True)
@@ -246,6 +250,7 @@ class Connect:
     refs: tuple[Ref, ...]
     doc: str | None = None
     span: Span | None = _NO_SPAN
+    metadata: str | None = None           # diagram routing JSON after `connect(...)`
 
 
 @dataclass(frozen=True)
@@ -253,6 +258,7 @@ class ForLoop:
     iterators: tuple[Iterator, ...]
     body: tuple["Relation", ...]
     span: Span | None = _NO_SPAN
+    doc: str | None = None
 
 
 @dataclass(frozen=True)
@@ -267,6 +273,7 @@ class IfRelation:
     branches: tuple[IfBranch, ...]              # `if` then each `elseif`
     otherwise: tuple["Relation", ...] = ()
     span: Span | None = _NO_SPAN
+    doc: str | None = None
 
 
 Relation = Union[Equation, Guess, Connect, ForLoop, IfRelation]
