@@ -11,6 +11,7 @@ from compiler.errors import DyadError, Note
 from compiler.flat import FlatSystem, Origin
 from compiler.structure.alias import AliasResult, eliminate_aliases
 from compiler.structure.causalize import Causalization, causalize
+from compiler.structure.derivative_rank import RankReport, remove_derivative_dependencies
 from compiler.structure.diagnostics import structural_singularity_error
 from compiler.structure.dummy_derivatives import DummySelection, base_variable, select_dummy_derivatives
 from compiler.structure.index_reduction import IndexReductionReport, reduce_index
@@ -42,15 +43,34 @@ class Analysis:
     system: IndexedSystem
     index_report: IndexReductionReport
     priorities: dict[str, int]
+    rank_report: RankReport | None = None
 
 
 def analyse(flat: FlatSystem) -> Analysis:
     alias = eliminate_aliases(flat)
-    system = build_indexed(alias.kept, alias.derivatives, [e.residual for e in alias.equations],
-                           [e.origin for e in alias.equations])
+    residuals = [e.residual for e in alias.equations]
+    parameter_values = {sympy.Symbol(p.name): p.value for p in flat.parameters if p.value is not None}
+    residuals, rank_report = remove_derivative_dependencies(
+        residuals, {sympy.Symbol(d) for d in alias.derivatives}, parameter_values)
+    derivatives = _occurring_derivatives(alias.derivatives, residuals)
+    system = build_indexed(alias.kept, derivatives, residuals, [e.origin for e in alias.equations])
     _check_square(flat, system)
     reduced_system, index_report = reduce_index(system)
-    return Analysis(alias, reduced_system, index_report, _priorities(flat, alias))
+    return Analysis(alias, reduced_system, index_report, _priorities(flat, alias), rank_report)
+
+
+def _occurring_derivatives(derivatives: dict[str, str], residuals: list[sympy.Expr]) -> dict[str, str]:
+    """Derivatives that some equation still contains (and the lower ones of their chains)."""
+    occurring = {s.name for r in residuals for s in r.free_symbols}
+    keep = {d for d in derivatives if d in occurring}
+    changed = True
+    while changed:
+        changed = False
+        for d, base in derivatives.items():
+            if d in keep and base in derivatives and base not in keep:
+                keep.add(base)
+                changed = True
+    return {d: b for d, b in derivatives.items() if d in keep}
 
 
 def reduce(flat: FlatSystem, point: dict[str, float] | None = None,
@@ -65,6 +85,7 @@ def reduce(flat: FlatSystem, point: dict[str, float] | None = None,
     report.counts.update({
         "flat variables": len(flat.variables), "flat equations": len(flat.equations),
         "after alias: variables": len(alias.kept), "after alias: equations": len(alias.equations),
+        "derivative-dependent equations combined": len(analysis.rank_report.replaced) if analysis.rank_report else 0,
         "differentiated equations": analysis.index_report.differentiated,
         "index-1 equations": system.n_eqs, "index-1 unknowns": system.n_vars,
     })

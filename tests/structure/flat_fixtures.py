@@ -32,3 +32,18 @@ def cartesian_pendulum(x0=1.0, y0=0.0, L=1.0, g=9.81, redundant=False):
     variables = [("x", STATE_CANDIDATE, x0, 0), ("y", STATE_CANDIDATE, y0, 0),
                  ("u", STATE_CANDIDATE, 0.0, 0), ("v", STATE_CANDIDATE, 0.0, 0), ("T", ALGEBRAIC, None, 0)]
     return build("Pendulum", variables, [("L", L), ("g", g)], eqs, initial)
+
+
+def capacitor_mirror(u0=0.0):
+    """Derivatives only as C*(der(y1) - der(y2)) and its mirror: one true state (y1 - y2).
+
+    e1:  C (y1' - y2') + (y1 - sin t)/R0 = 0
+    e2: -C (y1' - y2') + y2 (1/R1 + 1/R2) - Ub/R2 = 0
+    """
+    from compiler.flat import TIME
+    y1, y2, C, R0, R1, R2, Ub = (S(n) for n in "y1 y2 C R0 R1 R2 Ub".split())
+    eqs = [C * (D("y1") - D("y2")) + (y1 - sympy.sin(TIME)) / R0,
+           -C * (D("y1") - D("y2")) + y2 * (1 / R1 + 1 / R2) - Ub / R2]
+    return build("Mirror", [("y1", STATE_CANDIDATE, None, 0), ("y2", STATE_CANDIDATE, None, 0)],
+                 [("C", 1.0), ("R0", 1.0), ("R1", 2.0), ("R2", 2.0), ("Ub", 1.0)], eqs,
+                 initial=[y1 - y2 - u0])

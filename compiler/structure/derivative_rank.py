@@ -1,0 +1,80 @@
+"""Numerical rank of the derivative Jacobian: hidden constraints that structure cannot see.
+
+When derivatives appear only in linear combinations (`C1*(der(y1) - der(y2))` in one equation and
+its mirror in another), every voltage looks like a state structurally, but the rows of
+d(equations)/d(derivatives) are linearly dependent: a combination of the equations contains no
+derivative at all. That combination is an algebraic constraint between would-be states. We
+replace one equation of each dependent set by the derivative-free combination; Pantelides then
+sees the constraint and the state count drops to the true one.
+
+Only equations whose derivative coefficients are constants (numbers and parameters) take part:
+for those the dependency holds everywhere, not just at one point.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+import numpy as np
+import sympy
+
+
+@dataclass
+class RankReport:
+    rows_examined: int = 0
+    rank: int = 0
+    replaced: list[int] = field(default_factory=list)        # equation indices given a new residual
+
+
+def remove_derivative_dependencies(equations: list[sympy.Expr], derivative_symbols: set[sympy.Symbol],
+                                   parameter_values: dict[sympy.Symbol, float], tol: float = 1e-10
+                                   ) -> tuple[list[sympy.Expr], RankReport]:
+    report = RankReport()
+    rows, coefficient_rows = [], []
+    ders = sorted(derivative_symbols, key=lambda s: s.name)
+    der_index = {d: j for j, d in enumerate(ders)}
+    for i, eq in enumerate(equations):
+        present = [d for d in eq.free_symbols if d in der_index]
+        if not present:
+            continue
+        row = np.zeros(len(ders))
+        for d in present:
+            coefficient = sympy.diff(eq, d)
+            if coefficient.free_symbols - parameter_values.keys():
+                break                                   # depends on unknowns (or nonlinear in d)
+            row[der_index[d]] = float(coefficient.xreplace(parameter_values))
+        else:
+            rows.append(i)
+            coefficient_rows.append(row)
+    report.rows_examined = len(rows)
+    if not rows:
+        return list(equations), report
+
+    result = list(equations)
+    basis_rows: list[int] = []                          # positions in `rows` that are independent
+    for k, row in enumerate(coefficient_rows):
+        if basis_rows:
+            basis = np.array([coefficient_rows[b] for b in basis_rows])
+            weights, *_ = np.linalg.lstsq(basis.T, row, rcond=None)
+            residual = row - basis.T @ weights
+            scale = max(1.0, float(np.max(np.abs(row))))
+            if np.max(np.abs(residual)) <= tol * scale:
+                result[rows[k]] = _combine(result, rows, basis_rows, k, weights, ders)
+                report.replaced.append(rows[k])
+                continue
+        basis_rows.append(k)
+    report.rank = len(basis_rows)
+    return result, report
+
+
+def _combine(equations, rows, basis_rows, k, weights, ders) -> sympy.Expr:
+    """equation_k - sum(w_j equation_j): exact rational weights so the derivatives cancel."""
+    combined = equations[rows[k]]
+    for b, w in zip(basis_rows, weights):
+        if abs(w) > 1e-14:
+            exact = Fraction(float(w)).limit_denominator(10**6)
+            weight = sympy.Rational(exact.numerator, exact.denominator) if abs(float(exact) - w) < 1e-12 * max(1, abs(w)) else sympy.Float(w)
+            combined = combined - weight * equations[rows[b]]
+    combined = sympy.expand(combined)
+    leftover = {d: 0 for d in ders if d in combined.free_symbols}
+    return combined.xreplace(leftover) if leftover else combined
