@@ -18,12 +18,14 @@ from compiler.structure.graph.matching import UNMATCHED, maximum_matching
 
 @dataclass
 class DMPartition:
-    """Each equation and each variable lies in exactly one of the four groups of its kind.
+    """over-, under- and square- groups partition the equations, and likewise the variables.
 
-    `unmatched_eqs` belong to the overdetermined part and `unmatched_vars` to the underdetermined
-    part, but they are listed only there: the full overdetermined subsystem is
-    (overdetermined_eqs + unmatched_eqs, overdetermined_vars); see `overdetermined_subsystem()`.
-    All lists are ascending.
+    The unmatched equations (a maximum matching leaves them without a variable) are included in
+    `overdetermined_eqs`, the unmatched variables in `underdetermined_vars`; `unmatched_eqs` /
+    `unmatched_vars` list them again (which ones are unmatched depends on the matching found;
+    the three groups do not). All lists are ascending. Counts:
+    len(overdetermined_eqs) = len(overdetermined_vars) + len(unmatched_eqs), and
+    len(underdetermined_vars) = len(underdetermined_eqs) + len(unmatched_vars).
     """
     overdetermined_eqs: list[int]
     overdetermined_vars: list[int]
@@ -35,12 +37,10 @@ class DMPartition:
     unmatched_vars: list[int]
 
     def overdetermined_subsystem(self) -> tuple[list[int], list[int]]:
-        """(equations, variables): more equations than variables by len(unmatched_eqs)."""
-        return sorted(self.overdetermined_eqs + self.unmatched_eqs), list(self.overdetermined_vars)
+        return list(self.overdetermined_eqs), list(self.overdetermined_vars)
 
     def underdetermined_subsystem(self) -> tuple[list[int], list[int]]:
-        """(equations, variables): more variables than equations by len(unmatched_vars)."""
-        return list(self.underdetermined_eqs), sorted(self.underdetermined_vars + self.unmatched_vars)
+        return list(self.underdetermined_eqs), list(self.underdetermined_vars)
 
     @property
     def is_square_and_nonsingular(self) -> bool:
@@ -93,14 +93,11 @@ def dulmage_mendelsohn(n_eqs: int, n_vars: int, incidence: list[list[int]]) -> D
                 under_var[mate] = True
                 pending.append(mate)
 
-    unmatched_eq_set = [eq_to_var[eq] == UNMATCHED for eq in range(n_eqs)]
-    unmatched_var_set = [var_to_eq[var] == UNMATCHED for var in range(n_vars)]
     return DMPartition(
-        overdetermined_eqs=[eq for eq in range(n_eqs) if over_eq[eq] and not unmatched_eq_set[eq]],
+        overdetermined_eqs=[eq for eq in range(n_eqs) if over_eq[eq]],
         overdetermined_vars=[var for var in range(n_vars) if over_var[var]],
         underdetermined_eqs=[eq for eq in range(n_eqs) if under_eq[eq]],
-        underdetermined_vars=[var for var in range(n_vars)
-                              if under_var[var] and not unmatched_var_set[var]],
+        underdetermined_vars=[var for var in range(n_vars) if under_var[var]],
         square_eqs=[eq for eq in range(n_eqs) if not over_eq[eq] and not under_eq[eq]],
         square_vars=[var for var in range(n_vars) if not over_var[var] and not under_var[var]],
         unmatched_eqs=unmatched_eqs,
