@@ -1,0 +1,73 @@
+"""Human-readable views of a FlatSystem: `summarize` (for `dyadc check`) and `format_flat`
+(for `dyadc flatten`)."""
+from __future__ import annotations
+
+from collections import Counter
+
+from compiler.flat import INPUT, FlatSystem
+
+
+def summarize(flat: FlatSystem) -> str:
+    from compiler.balance import balance_summary, unbalanced_components
+    kinds = Counter(v.kind for v in flat.variables)
+    n_eqs, n_unknowns = balance_summary(flat)
+    tunable = sum(1 for p in flat.parameters if p.tunable)
+    lines = [f"model {flat.name}"]
+    lines.append("  variables: " + ", ".join(f"{kinds[k]} {k}" for k in sorted(kinds))
+                 + f" ({len(flat.variables)} total)")
+    lines.append(f"  derivatives: {len(flat.derivatives)}")
+    lines.append(f"  parameters: {len(flat.parameters)} ({tunable} tunable)")
+    equation_kinds = Counter(e.kind for e in flat.equations)
+    lines.append(f"  equations: {n_eqs} (" + ", ".join(f"{equation_kinds[k]} {k}"
+                                                       for k in sorted(equation_kinds)) + ")")
+    lines.append(f"  initial equations: {len(flat.initial_equations)}, guesses: "
+                 f"{len(flat.guesses)}")
+    if flat.visual:
+        lines.append(f"  visual-only instances: {len(flat.visual)}")
+    status = "balanced" if n_eqs == n_unknowns else "UNBALANCED"
+    lines.append(f"  balance: {n_eqs} equations, {n_unknowns} unknowns: {status}")
+    for local in unbalanced_components(flat):
+        lines.append(f"  warning: component {local.path} ({local.type}) is locally unbalanced: "
+                     f"{local.equations} equations for {local.unknowns} unknowns, "
+                     f"{local.provided} provided by its connectors and inputs")
+    for warning in flat.warnings:
+        lines.append(f"  warning: {warning}")
+    return "\n".join(lines)
+
+
+def format_flat(flat: FlatSystem) -> str:
+    lines = [f"model {flat.name}", "", "variables:"]
+    for v in flat.variables:
+        extras = []
+        if v.units:
+            extras.append(f"[{v.units}]")
+        if v.start is not None:
+            extras.append(f"start={v.start:g}")
+        if v.guess is not None:
+            extras.append(f"guess={v.guess:g}")
+        if v.state_priority:
+            extras.append(f"state_priority={v.state_priority}")
+        lines.append(f"  {v.kind:15s} {v.name} {' '.join(extras)}".rstrip())
+    lines += ["", "parameters:"]
+    for p in flat.parameters:
+        value = "?" if p.value is None else f"{p.value:g}"
+        symbolic = p.default is not None and getattr(p.default, "free_symbols", None)
+        default = f" = {p.default}" if symbolic else ""
+        flag = "" if p.tunable else f" ({p.variability}, fixed)"
+        lines.append(f"  {p.name} = {value}{default}{flag}")
+    lines += ["", "equations:"]
+    for e in flat.equations:
+        lines.append(f"  0 = {e.residual}    # {e.kind} {e.origin.describe()}")
+    if flat.initial_equations:
+        lines += ["", "initial equations:"]
+        for e in flat.initial_equations:
+            lines.append(f"  0 = {e.residual}    # {e.origin.describe()}")
+    if flat.guesses:
+        lines += ["", "guesses:"]
+        lines += [f"  {name} ~ {value:g}" for name, value in sorted(flat.guesses.items())]
+    if flat.visual:
+        lines += ["", "visual-only instances:"]
+        lines += [f"  {path or '<model>'}: {info['type']}" for path, info in sorted(flat.visual.items())]
+    unknowns = sum(1 for v in flat.variables if v.kind != INPUT)
+    lines += ["", f"{len(flat.equations)} equations, {unknowns} unknowns"]
+    return "\n".join(lines)

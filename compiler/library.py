@@ -1,0 +1,299 @@
+"""The library path: finds definitions by qualified name, parsing only the files it needs.
+
+Roots, searched in order: the project's `components/`, each extra lib dir, then the folders of
+the environment variable DYAD_PATH (os.pathsep-separated). Folders are namespaces:
+`root/A/B/Name.dyad` defines `A.B.Name`; when no file is named after the definition, the other
+`.dyad` files of the folder are searched (a cheap text scan decides which ones are worth parsing).
+Every parsed file is cached; `parse_count` counts real parses (tests use it to check laziness).
+"""
+from __future__ import annotations
+
+import difflib
+import os
+import re
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable, Sequence
+
+from compiler.errors import DyadError, Span
+from compiler.functions import ELEMENTARY, GLOBAL_REGISTRY, FunctionImpl, FunctionRegistry, \
+    suggest_function
+from compiler.syntax import ast
+
+PROJECT_COMPONENTS = Path(__file__).resolve().parent.parent / "components"
+STANDARD_PACKAGE = "Dyad"
+PRIMITIVE_TYPES = ("Real", "Integer", "Boolean", "String")
+FUNCTION_PLUGIN_FILE = "dyad_functions.py"
+
+_DEFINITION_KEYWORDS = r"(?:component|connector|type|enum|analysis|struct)"
+
+
+@dataclass(frozen=True)
+class Resolved:
+    """A definition together with where it was written (for resolving the names it uses)."""
+    qualified_name: str
+    definition: ast.Definition
+    package: str
+    file: ast.File
+
+    @property
+    def name(self) -> str:
+        return self.definition.name
+
+
+def _default_parser() -> Callable[[str], ast.File]:
+    from compiler.syntax.parser import parse_file
+    return parse_file
+
+
+def qualify(package: str, name: str) -> str:
+    return f"{package}.{name}" if package else name
+
+
+class Library:
+    def __init__(self, lib_dirs: Sequence[str | os.PathLike] = (), *, include_project: bool = True,
+                 use_env: bool = True, parser: Callable[[str], ast.File] | None = None,
+                 registry: FunctionRegistry = GLOBAL_REGISTRY):
+        roots: list[Path] = []
+        if include_project:
+            roots.append(PROJECT_COMPONENTS)
+        roots.extend(Path(d) for d in lib_dirs)
+        if use_env:
+            roots.extend(Path(d) for d in os.environ.get("DYAD_PATH", "").split(os.pathsep) if d)
+        self.roots: list[Path] = []
+        for root in roots:
+            resolved = root.resolve()
+            if resolved not in self.roots:
+                self.roots.append(resolved)
+        self.registry = registry
+        self.parse_count = 0
+        self._parser = parser
+        self._files: dict[Path, ast.File] = {}
+        self._texts: dict[Path, str] = {}
+        self._found: dict[str, Resolved | None] = {}
+        self._lookup_cache: dict[tuple[str, int, str], Resolved | None] = {}
+
+    # -------------------------------------------------------------------------------- files
+
+    def parse(self, path: str | os.PathLike) -> ast.File:
+        path = Path(path).resolve()
+        cached = self._files.get(path)
+        if cached is not None:
+            return cached
+        if self._parser is None:
+            self._parser = _default_parser()
+        parsed = self._parser(str(path))
+        self.parse_count += 1
+        self._files[path] = parsed
+        return parsed
+
+    def _text(self, path: Path) -> str:
+        text = self._texts.get(path)
+        if text is None:
+            try:
+                text = path.read_text(encoding="utf-8")
+            except (OSError, UnicodeDecodeError):
+                text = ""
+            self._texts[path] = text
+        return text
+
+    def package_of_file(self, path: str | os.PathLike) -> str | None:
+        """The namespace of a file under one of the roots, or None if it is under none."""
+        path = Path(path).resolve()
+        for root in self.roots:
+            try:
+                rel = path.parent.relative_to(root)
+            except ValueError:
+                continue
+            return ".".join(rel.parts)
+        return None
+
+    def add_root(self, folder: str | os.PathLike, first: bool = True) -> None:
+        folder = Path(folder).resolve()
+        if folder in self.roots:
+            return
+        if first:
+            self.roots.insert(0, folder)
+        else:
+            self.roots.append(folder)
+        self._found.clear()
+        self._lookup_cache.clear()
+
+    # --------------------------------------------------------------------------- lookup
+
+    def find(self, qualified_name: str) -> Resolved | None:
+        """The definition with this fully qualified name, or None."""
+        if qualified_name in self._found:
+            return self._found[qualified_name]
+        result = self._search(qualified_name)
+        self._found[qualified_name] = result
+        return result
+
+    def _search(self, qualified_name: str) -> Resolved | None:
+        *package_parts, name = qualified_name.split(".")
+        package = ".".join(package_parts)
+        header = re.compile(rf"(?<![\w.]){_DEFINITION_KEYWORDS}\s+{re.escape(name)}(?![\w])")
+        for root in self.roots:
+            folder = root.joinpath(*package_parts)
+            if not folder.is_dir():
+                continue
+            named = folder / f"{name}.dyad"
+            candidates = [named] if named.is_file() else []
+            candidates += [p for p in sorted(folder.glob("*.dyad"))
+                           if p != named and header.search(self._text(p.resolve()))]
+            for path in candidates:
+                parsed = self.parse(path)
+                for definition in parsed.definitions:
+                    if definition.name == name:
+                        return Resolved(qualified_name, definition, package, parsed)
+        return None
+
+    def _candidates(self, name: str, package: str, file: ast.File | None) -> list[str]:
+        """Qualified names to try for `name` used inside `package`, innermost first."""
+        out: list[str] = []
+        parts = package.split(".") if package else []
+        for k in range(len(parts), 0, -1):
+            out.append(".".join(parts[:k]) + "." + name)
+        head = name.split(".", 1)[0]
+        for using in (file.usings if file else ()):
+            if not using.names or head in using.names:
+                out.append(f"{using.package}.{name}")
+        out.append(name)
+        out.append(f"{STANDARD_PACKAGE}.{name}")
+        seen: set[str] = set()
+        return [c for c in out if not (c in seen or seen.add(c))]
+
+    def lookup(self, name: str, package: str, file: ast.File | None) -> Resolved | None:
+        key = (package, id(file), name)
+        if key in self._lookup_cache:
+            return self._lookup_cache[key]
+        result = None
+        if file is not None and "." not in name:
+            for definition in file.definitions:
+                if definition.name == name:
+                    result = Resolved(qualify(package, name), definition, package, file)
+                    break
+        if result is None:
+            for candidate in self._candidates(name, package, file):
+                result = self.find(candidate)
+                if result is not None:
+                    break
+        self._lookup_cache[key] = result
+        return result
+
+    def resolve(self, name: str, package: str, file: ast.File | None, span: Span | None,
+                what: str = "type") -> Resolved:
+        found = self.lookup(name, package, file)
+        if found is None:
+            raise DyadError(f"unknown {what} `{name}`", span, hint=self._suggest_type(name, file))
+        return found
+
+    def _suggest_type(self, name: str, file: ast.File | None) -> str | None:
+        known = set(PRIMITIVE_TYPES)
+        if file is not None:
+            known.update(d.name for d in file.definitions)
+        for parsed in self._files.values():
+            known.update(d.name for d in parsed.definitions)
+        for root in self.roots:
+            std = root / STANDARD_PACKAGE
+            if std.is_dir():
+                for path in std.glob("*.dyad"):
+                    known.update(re.findall(rf"{_DEFINITION_KEYWORDS}\s+(\w+)",
+                                            self._text(path.resolve())))
+        match = difflib.get_close_matches(name.rsplit(".", 1)[-1], sorted(known), n=1, cutoff=0.6)
+        return f"did you mean `{match[0]}`?" if match else None
+
+    # ---------------------------------------------------------------------------- functions
+
+    def resolve_function(self, name: str, package: str, file: ast.File | None,
+                         span: Span | None) -> FunctionImpl:
+        if "." not in name and name in ELEMENTARY:
+            return ELEMENTARY[name]
+        for candidate in self._candidates(name, package, file):
+            self._load_plugins_for(candidate)
+            found = self.registry.get(candidate)
+            if found is not None:
+                return found
+        suggestion = suggest_function(name, self.registry)
+        raise DyadError(f"unknown function `{name}`", span,
+                        hint=f"did you mean `{suggestion}`?" if suggestion else None)
+
+    def _load_plugins_for(self, qualified_name: str) -> None:
+        package_parts = qualified_name.split(".")[:-1]
+        for root in self.roots:
+            folder = root.joinpath(*package_parts)
+            plugin = folder / FUNCTION_PLUGIN_FILE
+            if plugin.is_file():
+                try:
+                    self.registry.load_plugin(plugin)
+                except Exception as exc:  # a broken plugin is a library error, not a crash
+                    raise DyadError(f"cannot load function plugin {plugin}: {exc}") from exc
+
+    # ---------------------------------------------------------------------------- listing
+
+    def definitions_under(self, folder: str | os.PathLike) -> list[Resolved]:
+        """Every definition in the .dyad files below `folder` (parses them all), sorted by name."""
+        folder = Path(folder).resolve()
+        out: list[Resolved] = []
+        for path in sorted(folder.rglob("*.dyad")):
+            package = self.package_of_file(path)
+            if package is None:
+                package = ".".join(path.parent.relative_to(folder).parts)
+            parsed = self.parse(path)
+            for definition in parsed.definitions:
+                out.append(Resolved(qualify(package, definition.name), definition, package, parsed))
+        return sorted(out, key=lambda r: r.qualified_name)
+
+
+# ------------------------------------------------------------------------------- model specs
+
+def load_model(spec: str, lib_dirs: Sequence[str] = (), *,
+               library: Library | None = None) -> tuple[Library, ast.ComponentDef, str]:
+    """Find the component named by `spec`: `path/File.dyad`, `path/File.dyad:Name` or a qualified
+    name on the library path. Returns the library (for further lookups), the definition and its
+    qualified name."""
+    library = library or Library(lib_dirs)
+    resolved = resolve_model(spec, library)
+    return library, resolved.definition, resolved.qualified_name
+
+
+def resolve_model(spec: str, library: Library) -> Resolved:
+    file_part, _, name = spec.partition(":") if ".dyad:" in spec else (spec, "", "")
+    if file_part.endswith(".dyad"):
+        path = Path(file_part)
+        if not path.is_file():
+            raise DyadError(f"model file `{file_part}` not found")
+        package = library.package_of_file(path)
+        if package is None:
+            # A file outside the library path: its folder becomes a root so siblings resolve.
+            library.add_root(path.resolve().parent)
+            package = ""
+        parsed = library.parse(path)
+        components = [d for d in parsed.definitions if isinstance(d, ast.ComponentDef)]
+        if name:
+            chosen = [d for d in components if d.name == name]
+            if not chosen:
+                raise DyadError(f"no component `{name}` in {file_part}", parsed.span,
+                                hint=_choices(components))
+        else:
+            chosen = [d for d in components if d.name == path.stem]
+            if not chosen:
+                chosen = [d for d in components if not d.partial]
+            if len(chosen) != 1:
+                raise DyadError(f"{file_part} does not name one component; use "
+                                f"`{file_part}:Name`", parsed.span, hint=_choices(components))
+        definition = chosen[0]
+        return Resolved(qualify(package, definition.name), definition, package, parsed)
+    found = library.find(spec)
+    if found is None:
+        roots = ", ".join(str(r) for r in library.roots)
+        raise DyadError(f"no model `{spec}` on the library path ({roots})")
+    if not isinstance(found.definition, ast.ComponentDef):
+        raise DyadError(f"`{spec}` is not a component", found.definition.span)
+    return found
+
+
+def _choices(components: list[ast.ComponentDef]) -> str | None:
+    if not components:
+        return None
+    return "components in the file: " + ", ".join(d.name for d in components)
