@@ -13,7 +13,7 @@ _PUNCTUATION = {
     "COMMA": ",", "SEMICOLON": ";", "COLON": ":", "DOUBLE_COLON": "::", "DOT": ".", "EQUAL": "=",
     "VBAR": "|", "PLUS": "+", "MINUS": "-", "STAR": "*", "SLASH": "/", "CARET": "^", "BANG": "!",
     "DOT_PLUS": ".+", "DOT_MINUS": ".-", "DOT_STAR": ".*", "DOT_SLASH": "./", "DOT_CARET": ".^",
-    "OR_OP": "or", "AND_OP": "and", "END_INDEX": "end", "__ANON_0": "∈", "_ROWSEP": ";",
+    "OR": "or", "AND": "and", "PIPE_PIPE": "||", "AMP_AMP": "&&", "END_INDEX": "end", "__ANON_0": "∈", "_ROWSEP": ";",
 }
 _DESCRIPTIONS = {
     "NAME": "a name", "NUMBER": "a number", "STRING": "a string", "LONG_STRING": "a string",
@@ -144,13 +144,22 @@ def parse_error(err: UnexpectedInput, tokens: list[Token], filename: str) -> Dya
 def _special_case(tok: Token, expected: set[str], blocks: list[OpenBlock], tokens, index,
                   found: str, span: Span) -> DyadError | None:
     innermost = blocks[-1] if blocks else None
-    prev = tokens[index - 1] if 0 < index <= len(tokens) else None
+    prev = _previous_significant(tokens, index)
+    adjacent = tokens[index - 1] if 0 < index <= len(tokens) else None
     if prev is not None and prev.type == "DOCSTRING" and tok.type in ("END", "$END"):
         return DyadError("a docstring must be followed by the definition, declaration or relation "
                          f"it documents, found {found}", span)
+    if tok.type == "COMPARE_OP" and tok.type not in expected:
+        return DyadError(f"comparisons cannot be chained, found a second `{tok.value}`", span,
+                         hint="write `a < b and b < c`")
+    if tok.type in _VALUE_TOKENS and adjacent is not None and adjacent.type in _VALUE_ENDERS \
+            and adjacent.end_line == tok.line and tok.type not in expected:
+        return DyadError(f"expected an operator or end of line after `{adjacent.value}`, "
+                         f"found {found}", span,
+                         hint="multiplication needs `*`: write `2 * x`, not `2 x`")
     if tok.type == "RELATIONS" and "RELATIONS" not in expected and innermost is not None:
         if innermost.kind in ("`for` loop", "`if` block"):
-            return DyadError(f"`relations` section cannot appear inside a {innermost.kind}", span,
+            return DyadError(f"`relations` section cannot appear inside {_a(innermost.kind)}", span,
                              hint="close the block with `end` first")
         if innermost.kind == "connector":
             return DyadError("`relations` section cannot appear inside a connector", span)
@@ -171,11 +180,29 @@ def _special_case(tok: Token, expected: set[str], blocks: list[OpenBlock], token
         return DyadError(f"expected {_expected_phrase(expected)}, found `end`", span)
     if tok.type == "METADATA" and "METADATA" not in expected and innermost is not None \
             and innermost.kind in ("`for` loop", "`if` block"):
-        return DyadError(f"`metadata` cannot appear inside a {innermost.kind}", span)
+        return DyadError(f"`metadata` cannot appear inside {_a(innermost.kind)}", span)
+    if tok.type == "END" and "END" not in expected and expected & _EXPRESSION_STARTS:
+        return DyadError(f"expected {_expected_phrase(expected)}, found `end`", span,
+                         hint="`end` stands for the last index only inside `[...]`, as in `v[end]`")
     if tok.type == "_HSEP":
         return DyadError("expected an operator or `,` between two expressions, found a space",
                          span, hint="inside `[...]` a space separates matrix elements; elsewhere "
                                     "write an operator, e.g. `2 * x` instead of `2 x`")
+    return None
+
+
+_VALUE_TOKENS = {"NAME", "NUMBER", "STRING", "LONG_STRING", "TRUE", "FALSE"}
+_VALUE_ENDERS = {"NAME", "NUMBER", "RPAR", "RSQB", "TRUE", "FALSE"}
+
+
+def _a(kind: str) -> str:
+    return ("an " if kind.startswith("`if`") else "a ") + kind
+
+
+def _previous_significant(tokens: list[Token], index: int) -> Token | None:
+    for candidate in reversed(tokens[:index]):
+        if candidate.type not in ("_NL", "SEMICOLON"):
+            return candidate
     return None
 
 
@@ -194,7 +221,7 @@ def _expected_phrase(expected: set[str]) -> str:
     remaining -= {"DOCSTRING", "_NL", "SEMICOLON"} if parts or len(remaining) > 3 else set()
     ordered = sorted(remaining, key=lambda t: (_PRIORITY.index(t) if t in _PRIORITY else 99, t))
     operators = [t for t in ordered if t in ("PLUS", "MINUS", "STAR", "SLASH", "CARET",
-                                              "COMPARE_OP", "AND_OP", "OR_OP", "DOT_PLUS",
+                                              "COMPARE_OP", "AND", "OR", "AMP_AMP", "PIPE_PIPE", "DOT_PLUS",
                                               "DOT_MINUS", "DOT_STAR", "DOT_SLASH", "DOT_CARET")]
     if len(operators) >= 3:
         ordered = [t for t in ordered if t not in operators]

@@ -30,7 +30,7 @@ SIGNED_STARTERS = frozenset({"MINUS", "PLUS"})
 # A line that starts with one of these continues the previous line.
 CONTINUATION_STARTERS = frozenset({
     "PLUS", "MINUS", "DOT_PLUS", "DOT_MINUS", "STAR", "SLASH", "DOT_STAR", "DOT_SLASH", "CARET",
-    "DOT_CARET", "COMPARE_OP", "AND_OP", "OR_OP", "EQUAL", "RPAR", "RSQB", "RBRACE", "COMMA",
+    "DOT_CARET", "COMPARE_OP", "AND", "OR", "AMP_AMP", "PIPE_PIPE", "EQUAL", "RPAR", "RSQB", "RBRACE", "COMMA",
     "COLON", "DOUBLE_COLON", "DOT", "LBRACE", "THEN", "ELSE", "ELSEIF", "IN",
 })
 # Docstrings follow these (besides expression enders): the start of a section.
@@ -39,7 +39,7 @@ KEYWORD_TYPES = frozenset({
     "COMPONENT", "CONNECTOR", "PARTIAL", "EXAMPLE", "TEST", "EXTERNAL", "ANALYSIS", "EXTENDS",
     "RELATIONS", "METADATA", "END", "PARAMETER", "STRUCTURAL", "CONSTANT", "FINAL", "VARIABLE",
     "POTENTIAL", "FLOW", "INPUT", "OUTPUT", "INITIAL", "GUESS", "CONNECT", "FOR", "IN", "IF",
-    "THEN", "ELSEIF", "ELSE", "OR_OP", "AND_OP", "TRUE", "FALSE", "TYPE", "ENUM", "USING",
+    "THEN", "ELSEIF", "ELSE", "OR", "AND", "TRUE", "FALSE", "TYPE", "ENUM", "USING",
 })
 OPENERS = {"LPAR": "RPAR", "LSQB": "RSQB", "LBRACE": "RBRACE"}
 CLOSERS = {v: k for k, v in OPENERS.items()}
@@ -89,15 +89,18 @@ def _text(token_type: str) -> str:
     return {"LPAR": "(", "RPAR": ")", "LSQB": "[", "RSQB": "]", "LBRACE": "{", "RBRACE": "}"}[token_type]
 
 
-def arrange(tokens: list[Token]) -> list[Token]:
-    """Insert layout tokens and retype context-dependent ones; see the module docstring."""
+def arrange(tokens: list[Token], docstrings: bool = True) -> list[Token]:
+    """Insert layout tokens and retype context-dependent ones; see the module docstring.
+
+    `docstrings=False` for a lone expression, where a leading string is a value.
+    """
     check_brackets(tokens)
     out: list[Token] = []
     stack: list[_Bracket] = []
     prev: Token | None = None
     for i, tok in enumerate(tokens):
         inner = stack[-1].kind if stack else None
-        tok = _retype(tok, prev, stack, inner)
+        tok = _retype(tok, prev, stack, inner, docstrings)
         if prev is not None:
             separator = _separator(prev, tok, inner, tokens[i + 1] if i + 1 < len(tokens) else None)
             if separator is not None:
@@ -117,12 +120,14 @@ def arrange(tokens: list[Token]) -> list[Token]:
     return out
 
 
-def _retype(tok: Token, prev: Token | None, stack: list[_Bracket], inner: str | None) -> Token:
+def _retype(tok: Token, prev: Token | None, stack: list[_Bracket], inner: str | None,
+            docstrings: bool) -> Token:
     if prev is not None and prev.type == "DOT" and tok.type in KEYWORD_TYPES:
         return _synth("NAME", tok.value, tok)
     if tok.type == "END" and any(b.kind in ("index", "array") for b in stack):
         return _synth("END_INDEX", tok.value, tok)
-    if tok.type in ("STRING", "LONG_STRING") and inner is None and _opens_statement(prev):
+    if docstrings and tok.type in ("STRING", "LONG_STRING") and inner is None \
+            and _opens_statement(prev):
         return _synth("DOCSTRING", tok.value, tok)
     if tok.type == "SEMICOLON" and inner == "array":
         return _synth("_ROWSEP", ";", tok)

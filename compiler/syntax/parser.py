@@ -57,10 +57,10 @@ def tokenize(text: str, filename: str) -> list[Token]:
     return tokens
 
 
-def _parse_tokens(parser: Lark, text: str, filename: str):
+def _parse_tokens(parser: Lark, text: str, filename: str, docstrings: bool = True):
     raw = tokenize(text, filename)
     try:
-        arranged = arrange(raw)
+        arranged = arrange(raw, docstrings)
     except LayoutError as err:
         raise DyadError(err.message, _token_span(err.token, filename)) from None
     try:
@@ -95,7 +95,7 @@ def parse_file(path) -> ast.File:
 
 def parse_expression(text: str, filename: str = "<expr>") -> ast.Expr:
     register_source(filename, text)
-    return _parse_tokens(_parsers()[1], text, filename)
+    return _parse_tokens(_parsers()[1], text, filename, docstrings=False)
 
 
 # ------------------------------------------------------------------------------------ helpers

@@ -1,0 +1,294 @@
+"""Canonical reprint of an AST: 2-space indentation, one declaration per line, minimal parentheses.
+
+The contract is `parse(format_file(f)) == f` (spans ignored). Layout follows the seed sources:
+`relations`, `metadata` and `end` start at the definition's column, everything else is indented.
+"""
+from __future__ import annotations
+
+from compiler.syntax import ast
+
+INDENT = "  "
+
+# Binding strength, loosest first; a child printed below its required level gets parentheses.
+IF_LEVEL, OR_LEVEL, AND_LEVEL, COMPARE_LEVEL, RANGE_LEVEL, ADD_LEVEL, MUL_LEVEL, UNARY_LEVEL, \
+    POWER_LEVEL, ATOM_LEVEL = range(10)
+
+_BINARY_LEVELS = {
+    "or": OR_LEVEL, "and": AND_LEVEL,
+    "==": COMPARE_LEVEL, "!=": COMPARE_LEVEL, "<": COMPARE_LEVEL, "<=": COMPARE_LEVEL,
+    ">": COMPARE_LEVEL, ">=": COMPARE_LEVEL,
+    "+": ADD_LEVEL, "-": ADD_LEVEL, ".+": ADD_LEVEL, ".-": ADD_LEVEL,
+    "*": MUL_LEVEL, "/": MUL_LEVEL, ".*": MUL_LEVEL, "./": MUL_LEVEL,
+    "^": POWER_LEVEL, ".^": POWER_LEVEL,
+}
+
+
+def _level(e) -> int:
+    if isinstance(e, ast.IfExpr):
+        return IF_LEVEL
+    if isinstance(e, ast.BinaryOp):
+        return _BINARY_LEVELS[e.op]
+    if isinstance(e, ast.Range):
+        return RANGE_LEVEL
+    if isinstance(e, ast.UnaryOp):
+        return UNARY_LEVEL
+    return ATOM_LEVEL
+
+
+def _operand(e, required: int) -> str:
+    text = format_expr(e)
+    return f"({text})" if _level(e) < required else text
+
+
+def format_expr(e) -> str:
+    if isinstance(e, ast.Number):
+        return _number(e)
+    if isinstance(e, ast.String):
+        return _string(e.value)
+    if isinstance(e, ast.Boolean):
+        return "true" if e.value else "false"
+    if isinstance(e, ast.End):
+        return "end"
+    if isinstance(e, ast.Colon):
+        return ":"
+    if isinstance(e, ast.Ref):
+        return ".".join(_ref_part(p) for p in e.parts)
+    if isinstance(e, ast.Range):
+        parts = [e.start] + ([e.step] if e.step is not None else []) + [e.stop]
+        return ":".join(_operand(p, ADD_LEVEL) for p in parts)
+    if isinstance(e, ast.UnaryOp):
+        operand = _operand(e.operand, UNARY_LEVEL)
+        separator = " " if operand[:1] in "+-!." else ""
+        return f"{e.op}{separator}{operand}"
+    if isinstance(e, ast.BinaryOp):
+        return _binary(e)
+    if isinstance(e, ast.IfExpr):
+        return _if_expr(e)
+    if isinstance(e, ast.Call):
+        args = [format_expr(a) for a in e.args]
+        args += [f"{k.name} = {format_expr(k.value)}" for k in e.kwargs]
+        return f"{e.function}({', '.join(args)})"
+    if isinstance(e, ast.ArrayLit):
+        return _array(e)
+    if isinstance(e, ast.Comprehension):
+        return f"[{format_expr(e.expr)} for {_iterators(e.iterators)}]"
+    raise TypeError(f"not an expression node: {e!r}")
+
+
+def _number(e: ast.Number) -> str:
+    if e.text is not None:
+        return e.text
+    if isinstance(e.value, bool) or not isinstance(e.value, (int, float)):
+        raise TypeError(f"not a number: {e.value!r}")
+    return str(e.value) if isinstance(e.value, int) else repr(float(e.value))
+
+
+def _string(value: str) -> str:
+    if "\n" in value or '"' in value.replace('\\"', ""):
+        return f'"""{value}"""'
+    return f'"{value}"'
+
+
+def _ref_part(part: ast.RefPart) -> str:
+    if not part.indices:
+        return part.name
+    return f"{part.name}[{', '.join(format_expr(i) for i in part.indices)}]"
+
+
+def _binary(e: ast.BinaryOp) -> str:
+    level = _BINARY_LEVELS[e.op]
+    if level == POWER_LEVEL:
+        # Right-associative; the base must be tighter than unary (`(-2) ^ 2`), the exponent may
+        # carry a sign (`2 ^ -3`).
+        left, right = _operand(e.left, ATOM_LEVEL), _operand(e.right, UNARY_LEVEL)
+    elif level == COMPARE_LEVEL:
+        left, right = _operand(e.left, RANGE_LEVEL), _operand(e.right, RANGE_LEVEL)
+    else:
+        left, right = _operand(e.left, level), _operand(e.right, level + 1)
+    return f"{left} {e.op} {right}"
+
+
+def _if_expr(e: ast.IfExpr) -> str:
+    out = [f"if {_operand(e.condition, OR_LEVEL)} then {format_expr(e.then)}"]
+    rest = e.otherwise
+    while isinstance(rest, ast.IfExpr):
+        out.append(f" elseif {_operand(rest.condition, OR_LEVEL)} then {format_expr(rest.then)}")
+        rest = rest.otherwise
+    out.append(f" else {format_expr(rest)}")
+    return "".join(out)
+
+
+def _array(e: ast.ArrayLit) -> str:
+    if not e.is_matrix:
+        return f"[{', '.join(format_expr(x) for x in e.elements)}]"
+    rows = []
+    for row in e.elements:
+        elements = row.elements if isinstance(row, ast.ArrayLit) and not row.is_matrix else (row,)
+        # Inside a matrix row a space separates elements, so anything with an operator is
+        # parenthesized to stay one element.
+        rows.append(" ".join(_operand(x, ATOM_LEVEL) for x in elements))
+    return f"[{'; '.join(rows)}]"
+
+
+def _iterators(iterators) -> str:
+    return ", ".join(f"{it.variable} in {format_expr(it.iterable)}" for it in iterators)
+
+
+# ----------------------------------------------------------------------------- declarations
+
+def _modifications(mods) -> str:
+    return ", ".join(_modification(m) for m in mods)
+
+
+def _modification(m: ast.Modification) -> str:
+    text = ("final " if m.final else "") + m.name
+    if m.nested:
+        text += f"({_modifications(m.nested)})"
+    if m.value is not None:
+        text += f" = {format_expr(m.value)}"
+    return text
+
+
+def _type_spec(t: ast.TypeSpec) -> str:
+    text = t.name
+    if t.dims:
+        text += f"[{', '.join(format_expr(d) for d in t.dims)}]"
+    if t.modifications:
+        text += f"({_modifications(t.modifications)})"
+    return text
+
+
+def _suffix(condition, metadata) -> str:
+    text = ""
+    if condition is not None:
+        text += f" if {format_expr(condition)}"
+    if metadata is not None:
+        text += f" {metadata}"
+    return text
+
+
+def _doc_lines(doc: str | None, indent: str) -> list[str]:
+    return [] if doc is None else [indent + _string(doc)]
+
+
+def _declaration(d, indent: str) -> list[str]:
+    lines = _doc_lines(d.doc, indent)
+    if isinstance(d, ast.ParameterDecl):
+        keyword = {"parameter": "parameter", "structural": "structural parameter",
+                   "constant": "constant"}[d.variability]
+        text = f"{'final ' if d.final else ''}{keyword} {d.name}::{_type_spec(d.type)}"
+        if d.default is not None:
+            text += f" = {format_expr(d.default)}"
+    elif isinstance(d, ast.VariableDecl):
+        text = f"{d.causality or 'variable'} {d.name}::{_type_spec(d.type)}"
+        if d.binding is not None:
+            text += f" = {format_expr(d.binding)}"
+        elif d.initial is not None:
+            text += f" = initial {format_expr(d.initial)}"
+    elif isinstance(d, ast.ComponentDecl):
+        call = f"{d.type_name}({_modifications(d.modifications)})"
+        if d.iterators:
+            call = f"[{call} for {_iterators(d.iterators)}]"
+        text = f"{d.name} = {call}"
+    else:
+        raise TypeError(f"not a declaration: {d!r}")
+    lines.append(indent + text + _suffix(d.condition, d.metadata))
+    return lines
+
+
+def _extends(e: ast.Extends, indent: str) -> list[str]:
+    text = f"extends {e.type_name}"
+    if e.modifications:
+        text += f"({_modifications(e.modifications)})"
+    if e.metadata is not None:
+        text += f" {e.metadata}"
+    return _doc_lines(e.doc, indent) + [indent + text]
+
+
+# -------------------------------------------------------------------------------- relations
+
+def _relation(r, indent: str) -> list[str]:
+    if isinstance(r, ast.Equation):
+        keyword = "initial " if r.initial else ""
+        return _doc_lines(r.doc, indent) + [
+            f"{indent}{keyword}{format_expr(r.lhs)} = {format_expr(r.rhs)}"]
+    if isinstance(r, ast.Guess):
+        return _doc_lines(r.doc, indent) + [
+            f"{indent}guess {format_expr(r.target)} = {format_expr(r.value)}"]
+    if isinstance(r, ast.Connect):
+        text = f"connect({', '.join(format_expr(x) for x in r.refs)})"
+        if r.metadata is not None:
+            text += f" {r.metadata}"
+        return _doc_lines(r.doc, indent) + [indent + text]
+    if isinstance(r, ast.ForLoop):
+        lines = _doc_lines(r.doc, indent) + [f"{indent}for {_iterators(r.iterators)}"]
+        lines += _relations(r.body, indent + INDENT)
+        return lines + [f"{indent}end"]
+    if isinstance(r, ast.IfRelation):
+        lines = _doc_lines(r.doc, indent)
+        for index, branch in enumerate(r.branches):
+            keyword = "if" if index == 0 else "elseif"
+            lines.append(f"{indent}{keyword} {format_expr(branch.condition)}")
+            lines += _relations(branch.body, indent + INDENT)
+        if r.otherwise:
+            lines.append(f"{indent}else")
+            lines += _relations(r.otherwise, indent + INDENT)
+        return lines + [f"{indent}end"]
+    raise TypeError(f"not a relation: {r!r}")
+
+
+def _relations(relations, indent: str) -> list[str]:
+    return [line for r in relations for line in _relation(r, indent)]
+
+
+# ------------------------------------------------------------------------------ definitions
+
+def _definition(d) -> list[str]:
+    lines = _doc_lines(d.doc, "")
+    if isinstance(d, (ast.ComponentDef, ast.AnalysisDef)):
+        words = []
+        if d.partial:
+            words.append("partial")
+        if getattr(d, "prefix", None):
+            words.append(d.prefix)
+        words.append("analysis" if isinstance(d, ast.AnalysisDef) else "component")
+        lines.append(f"{' '.join(words)} {d.name}")
+        for e in d.extends:
+            lines += _extends(e, INDENT)
+        for decl in d.declarations:
+            lines += _declaration(decl, INDENT)
+        if d.relations:
+            lines.append("relations")
+            lines += _relations(d.relations, INDENT)
+        if d.metadata is not None:
+            lines.append(f"metadata {d.metadata}")
+        lines.append("end")
+    elif isinstance(d, ast.ConnectorDef):
+        lines.append(f"{'partial ' if d.partial else ''}connector {d.name}")
+        for f in d.fields:
+            lines += _doc_lines(f.doc, INDENT)
+            lines.append(f"{INDENT}{f.kind} {f.name}::{_type_spec(f.type)}"
+                         + _suffix(None, f.metadata))
+        if d.metadata is not None:
+            lines.append(f"metadata {d.metadata}")
+        lines.append("end")
+    elif isinstance(d, ast.SignalConnectorDef):
+        lines.append(f"connector {d.name} = {d.causality} {_type_spec(d.type)}"
+                     + _suffix(None, d.metadata))
+    elif isinstance(d, ast.TypeDef):
+        lines.append(f"type {d.name} = {_type_spec(d.base)}")
+    elif isinstance(d, ast.EnumDef):
+        lines.append(f"enum {d.name} = {' | '.join(d.members)}")
+    else:
+        raise TypeError(f"not a definition: {d!r}")
+    return lines
+
+
+def format_file(file: ast.File) -> str:
+    blocks = []
+    if file.usings:
+        blocks.append("\n".join(
+            f"using {u.package}" + (f": {', '.join(u.names)}" if u.names else "")
+            for u in file.usings))
+    blocks += ["\n".join(_definition(d)) for d in file.definitions]
+    return "\n\n".join(blocks) + "\n"
