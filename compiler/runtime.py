@@ -112,6 +112,29 @@ class CompiledModel:
         self.metadata = dict(metadata or {})
         self._output_index = {n: i for i, n in enumerate(self.output_names)}
         self._init_jacobian: ca.Function | None = None
+        self.native_library: str | None = None
+        self._native_dae: ca.Function | None = None
+
+    # -- native (C) code ---------------------------------------------------------------------------
+    NATIVE_DAE_NAME = "dyad_dae"
+
+    def use_native_library(self, path: str | os.PathLike | None) -> None:
+        """Evaluate the DAE through a compiled shared library (made by the compiler's ccodegen)
+        holding `dyad_dae(t, x, z, p, u) -> (ode, alg, quad, zero)` and its Jacobian."""
+        self.native_library = None if path is None else os.fspath(path)
+        self._native_dae = None
+
+    def native_dae(self) -> ca.Function | None:
+        if self.native_library is None:
+            return None
+        if self._native_dae is None:
+            try:
+                self._native_dae = ca.external(self.NATIVE_DAE_NAME, self.native_library)
+            except RuntimeError as err:
+                raise ModelInputError(f"cannot load the compiled model library "
+                                      f"{self.native_library}: {str(err).strip().splitlines()[-1]}") \
+                    from None
+        return self._native_dae
 
     # -- serialization ---------------------------------------------------------------------------
     def to_dict(self) -> dict:
@@ -239,7 +262,7 @@ def _levenberg_marquardt(evaluate: Callable[[np.ndarray], tuple[np.ndarray, np.n
                 b = np.concatenate([-rr, np.zeros(len(w))])
             else:
                 a, b = jr, -rr
-            step = np.linalg.lstsq(a, b, rcond=None)[0]
+            step = _linear_least_squares(a, b)
             w_new = w + step
             r_new, jac_new = evaluate(w_new)
             rr_new = r_new / rows
@@ -258,6 +281,28 @@ def _levenberg_marquardt(evaluate: Callable[[np.ndarray], tuple[np.ndarray, np.n
         if tiny_step:
             break
     return w, r, jac, iterations
+
+
+def _linear_least_squares(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """min |a s - b|: LU for square, QR for tall full-rank systems (both far cheaper than the SVD),
+    the minimum-norm SVD solution when `a` is (nearly) rank-deficient or wide."""
+    rows, cols = a.shape
+    try:
+        if rows == cols > 0:
+            s = np.linalg.solve(a, b)
+            if np.all(np.isfinite(s)) and \
+                    np.linalg.norm(a @ s - b) <= 1e-9 * (np.linalg.norm(b) + 1e-300):
+                return s
+        elif rows > cols > 0:
+            q, r = np.linalg.qr(a)
+            diagonal = np.abs(np.diag(r))
+            if diagonal.min() > 1e-10 * diagonal.max():
+                s = np.linalg.solve(r, q.T @ b)
+                if np.all(np.isfinite(s)):
+                    return s
+    except np.linalg.LinAlgError:
+        pass
+    return np.linalg.lstsq(a, b, rcond=None)[0]
 
 
 def _scaled_residual(r: np.ndarray, jac: np.ndarray, w: np.ndarray) -> np.ndarray:
@@ -484,22 +529,31 @@ class _CapturedStderr:
             self._file = None
 
 
-def _dae_expressions(model: CompiledModel, scaled_time: bool) -> tuple[dict, int]:
-    """The DAE dict for ca.integrator. With `scaled_time`, t = t_a + t_b * tau (t_a, t_b appended to
-    p) so one integrator over tau in [0, 1] serves every chunk of the run."""
+def _dae_function(model: CompiledModel, scaled_time: bool) -> ca.Function:
+    """The DAE as CasADi's integrator wants it: (t, x, z, p, u) -> (ode, alg, quad, zero).
+
+    With `scaled_time`, t = t_a + t_b * tau (t_a, t_b appended to p), so one integrator over
+    tau in [0, 1] serves every chunk of the run. A model compiled to C (`native_dae`) is called
+    as an external function whose library also holds its Jacobian.
+    """
+    native = model.native_dae()
+    if native is not None and not scaled_time:
+        return native
+    sym = ca.SX.sym if native is None else ca.MX.sym
     nx, nz, npar = len(model.state_names), len(model.algebraic_names), len(model.parameter_names)
-    x = ca.SX.sym("x", nx)
-    z = ca.SX.sym("z", nz)
-    p = ca.SX.sym("p", npar)
-    t = ca.SX.sym("t")
-    if not scaled_time:
-        ode, alg = model.dae(x, z, p, t)
-        return {"x": x, "z": z, "p": p, "t": t, "ode": ode, "alg": alg}, npar
-    shift = ca.SX.sym("t_a")
-    span = ca.SX.sym("t_b")
-    ode, alg = model.dae(x, z, p, shift + span * t)
-    return {"x": x, "z": z, "p": ca.vertcat(p, shift, span), "t": t,
-            "ode": span * ode, "alg": alg}, npar + 2
+    x, z, p, t, u = sym("x", nx), sym("z", nz), sym("p", npar), sym("t"), sym("u", 0)
+    if scaled_time:
+        shift, span = sym("t_a"), sym("t_b")
+        p_in, t_model = ca.vertcat(p, shift, span), shift + span * t
+    else:
+        span, p_in, t_model = 1.0, p, t
+    if native is None:
+        ode, alg = model.dae(x, z, p, t_model)
+    else:
+        ode, alg = native(t_model, x, z, p, u)[:2]
+    empty = ca.SX(0, 1) if native is None else ca.MX(0, 1)
+    return ca.Function("dyad_dae", [t, x, z, p_in, u], [span * ode, alg, empty, empty],
+                       ca.dyn_in(), ca.dyn_out())
 
 
 def _integrator_options(model: CompiledModel, rtol: float, atol, max_steps: int,
@@ -616,7 +670,7 @@ def _integrate(model, grid, p, point, rtol, atol, max_steps, n_chunks, progress,
 
     bounds = np.linspace(0, n - 1, max(1, min(n_chunks, n - 1)) + 1).round().astype(int)
     uniform = n_chunks > 1 and np.allclose(np.diff(grid), grid[1] - grid[0], rtol=1e-9, atol=0)
-    dae, _ = _dae_expressions(model, scaled_time=uniform)
+    dae = _dae_function(model, scaled_time=uniform)
     cache: dict[int, ca.Function] = {}
     x, z = point.x, point.z
     progress.update(grid[0])
