@@ -21,8 +21,8 @@ from compiler.syntax.layout import LayoutError, arrange
 
 _GRAMMAR_PATH = Path(__file__).with_name("grammar.lark")
 
-SI_SUFFIXES = {"p": 1e-12, "n": 1e-9, "u": 1e-6, "μ": 1e-6, "m": 1e-3, "k": 1e3, "M": 1e6,
-               "G": 1e9, "T": 1e12}
+# Decimal exponents, so that `100n` is exactly the float of `100e-9`.
+SI_EXPONENTS = {"p": -12, "n": -9, "u": -6, "μ": -6, "m": -3, "k": 3, "M": 6, "G": 9, "T": 12}
 
 
 class _TokenListLexer(Lexer):
@@ -113,8 +113,8 @@ def _string_content(raw: str) -> str:
 
 def number_value(text: str) -> float | int:
     suffix = text[-1]
-    if suffix in SI_SUFFIXES:
-        return float(text[:-1]) * SI_SUFFIXES[suffix]
+    if suffix in SI_EXPONENTS:
+        return float(f"{text[:-1]}e{SI_EXPONENTS[suffix]}")
     if any(c in text for c in ".eE"):
         return float(text)
     return int(text)
