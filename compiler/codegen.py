@@ -43,6 +43,7 @@ _MODEL_JSON = (
 {model_json}
 )
 
+_NATIVE_LIBRARY = {native!r}   # compiled DAE beside this file (dyadc --codegen c), or None
 _model = None
 
 
@@ -51,6 +52,10 @@ def model():
     global _model
     if _model is None:
         _model = _runtime.CompiledModel.from_dict(_json.loads(_MODEL_JSON))
+        if _NATIVE_LIBRARY is not None:
+            import os as _os
+            _model.use_native_library(_os.path.join(_os.path.dirname(_os.path.abspath(__file__)),
+                                                    _NATIVE_LIBRARY))
     return _model
 
 
@@ -67,13 +72,14 @@ def _literal_lines(text: str, indent: str = "    ") -> str:
     return "\n".join(indent + json.dumps(chunk) for chunk in chunks)
 
 
-def module_source(model: CompiledModel, module_name: str) -> str:
+def module_source(model: CompiledModel, module_name: str, native: str | None = None) -> str:
     payload = json.dumps(model.to_dict(), sort_keys=True, separators=(",", ":"), allow_nan=True)
     source = _TEMPLATE.format(
         name=model.name, module=module_name, runtime=RUNTIME_MODULE,
         parameters=_python_dict(dict(zip(model.parameter_names, model.parameter_defaults))),
         variables=_python_list(model.output_names), states=_python_list(model.state_names),
-        algebraics=_python_list(model.algebraic_names), model_json=_literal_lines(payload))
+        algebraics=_python_list(model.algebraic_names), model_json=_literal_lines(payload),
+        native=native)
     return source
 
 
@@ -101,8 +107,17 @@ def write_module(model: CompiledModel, module_name: str, out_dir: str | os.PathL
     out.mkdir(parents=True, exist_ok=True)
     runtime_source = Path(runtime.__file__).read_text(encoding="utf-8")
     _write_if_changed(out / f"{RUNTIME_MODULE}.py", runtime_source)
+    native = None
+    if model.native_library is not None:
+        # The library travels with the module; its name is fixed so the module text is stable.
+        native = f"{module_name}_dae.so"
+        data = Path(model.native_library).read_bytes()
+        if not (out / native).exists() or (out / native).read_bytes() != data:
+            tmp = out / f".{native}.{os.getpid()}.tmp"
+            tmp.write_bytes(data)
+            os.replace(tmp, out / native)
     target = out / f"{module_name}.py"
-    _write_if_changed(target, module_source(model, module_name))
+    _write_if_changed(target, module_source(model, module_name, native))
     return target
 
 

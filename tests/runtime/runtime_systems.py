@@ -115,9 +115,11 @@ def vanishing_root() -> ReducedSystem:
         output_names=["x", "z"])
 
 
-def mass_chain(n: int = 20) -> ReducedSystem:
+def mass_chain(n: int = 20, heavy: bool = False) -> ReducedSystem:
     """A mid-size model: n masses on nonlinear springs with dampers, forces as algebraic unknowns
-    (each spring force defined implicitly by its own residual), driven at the first mass."""
+    (each spring force defined implicitly by its own residual), driven at the first mass.
+    `heavy` uses the excavator scene's kind of smooth laws (saturation, regularised roots, trig),
+    whose evaluation cost makes compiled C pay off."""
     states, ode, algebraics, alg, residuals = [], [], [], [], []
     params = [ParameterInfo("m", 1.0), ParameterInfo("k", 100.0), ParameterInfo("k3", 50.0),
               ParameterInfo("d", 0.5), ParameterInfo("A", 0.1), ParameterInfo("w", 3.0)]
@@ -130,12 +132,20 @@ def mass_chain(n: int = 20) -> ReducedSystem:
         left = drive if j == 1 else S(f"s{j - 1}")
         left_v = amp * w * sympy.cos(w * TIME) if j == 1 else S(f"v{j - 1}")
         stretch = S(f"s{j}") - left
-        alg.append(S(f"f{j}") - (k * stretch + k3 * stretch**3 + d * (S(f"v{j}") - left_v)))
+        slip = S(f"v{j}") - left_v
+        if heavy:
+            law = (k * stretch / (1 + (stretch / 0.2) ** 4) ** sympy.Rational(1, 4)
+                   + k3 * sympy.sin(stretch) * sympy.cos(2 * stretch)
+                   + d * slip / (slip**2 + 0.01) ** sympy.Rational(1, 4)
+                   + d * sympy.tanh(10 * slip) * sympy.exp(-stretch**2))
+        else:
+            law = k * stretch + k3 * stretch**3 + d * slip
+        alg.append(S(f"f{j}") - law)
         pull_right = S(f"f{j + 1}") if j < n else 0
         ode += [S(f"v{j}"), (pull_right - S(f"f{j}")) / m]
     residuals = list(alg) + [S(s) for s in states]
     return ReducedSystem(
-        name=f"MassChain{n}", states=states, ode=ode, algebraics=algebraics, alg=alg,
+        name=f"MassChain{n}{'Heavy' if heavy else ''}", states=states, ode=ode, algebraics=algebraics, alg=alg,
         assignments=[], observables=[], parameters=params,
         initial=InitialProblem(residuals=residuals, origins=[None] * len(residuals)),
         output_names=states + algebraics)

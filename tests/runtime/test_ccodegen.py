@@ -1,0 +1,80 @@
+"""C code generation: same numbers as the VM, cached by content, VM fallback without a compiler."""
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import runtime_systems as systems
+from compiler import ccodegen, runtime
+from compiler.codegen import write_module
+from compiler.lower_casadi import lower
+from compiler.simulate import compile_model
+
+needs_cc = pytest.mark.skipif(ccodegen.find_compiler() is None, reason="no C compiler")
+
+
+@pytest.fixture
+def cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("DYADC_CACHE", str(tmp_path / "cache"))
+    return tmp_path / "cache"
+
+
+@needs_cc
+def test_c_model_matches_the_vm_and_is_cached(cache):
+    vm = lower(systems.pendulum_cartesian(0.9))
+    native = compile_model(systems.pendulum_cartesian(0.9), codegen="c")
+    assert native.metadata["codegen"] == "c" and native.native_library.startswith(str(cache))
+    for chunks in (None, 3):
+        a = runtime.simulate(vm, 2.0, rtol=1e-9, atol=1e-11, chunks=chunks)
+        b = runtime.simulate(native, 2.0, rtol=1e-9, atol=1e-11, chunks=chunks)
+        np.testing.assert_allclose(b.values, a.values, rtol=1e-9, atol=1e-11)
+    libraries = list(cache.glob("*.so"))
+    assert len(libraries) == 1
+    mtime = libraries[0].stat().st_mtime_ns
+    again = compile_model(systems.pendulum_cartesian(0.9), codegen="c")
+    assert again.native_library == native.native_library
+    assert libraries[0].stat().st_mtime_ns == mtime                 # reused, not rebuilt
+    different = compile_model(systems.rc_circuit(), codegen="c")
+    assert different.native_library != native.native_library
+
+
+def test_missing_compiler_falls_back_to_the_vm_with_a_warning(cache, monkeypatch):
+    monkeypatch.setattr(ccodegen, "find_compiler", lambda: None)
+    with pytest.warns(ccodegen.CodegenWarning, match="no C compiler"):
+        model = compile_model(systems.rc_circuit(), codegen="c")
+    assert model.metadata["codegen"] == "vm" and model.native_library is None
+    assert runtime.simulate(model, 0.1, points=3)["C.v"][-1] > 0
+
+
+def test_failing_compiler_falls_back_to_the_vm(cache, monkeypatch, tmp_path):
+    fake = tmp_path / "broken-cc"
+    fake.write_text("#!/bin/sh\necho 'internal compiler error' >&2\nexit 1\n")
+    fake.chmod(0o755)
+    monkeypatch.setattr(ccodegen, "find_compiler", lambda: str(fake))
+    with pytest.warns(ccodegen.CodegenWarning, match="internal compiler error"):
+        model = compile_model(systems.rc_circuit(), codegen="c")
+    assert model.native_library is None
+
+
+@needs_cc
+def test_generated_module_carries_its_native_library(cache, tmp_path):
+    model = compile_model(systems.rc_circuit(), codegen="c")
+    out = tmp_path / "gen"
+    write_module(model, "rc_native", out)
+    assert (out / "rc_native_dae.so").exists()
+    code = ("import json, rc_native as m\n"
+            "r = m.simulate(0.3, points=4, rtol=1e-9, atol=1e-12)\n"
+            "print(json.dumps([m.model().native_library is not None, r['C.v'].tolist()]))")
+    env = dict(os.environ, PYTHONPATH=str(out))
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env,
+                          cwd=out, timeout=120)
+    assert done.returncode == 0, done.stderr
+    uses_native, voltages = json.loads(done.stdout)
+    assert uses_native
+    np.testing.assert_allclose(voltages, 10 * (1 - np.exp(-np.linspace(0, 0.3, 4) / 0.1)),
+                               atol=1e-7)
