@@ -69,7 +69,8 @@ def _choose_columns(system, rows, candidates, priority, jacobian):
         for v in system.incidence[e]:
             if v in column_rows:
                 column_rows[v].append(row_index[e])
-    order = sorted(candidates, key=lambda v: (priority(v), system.names[v]))
+    # ties: rather make der(der(phi)) a dummy than der(w), so that named variables stay states
+    order = sorted(candidates, key=lambda v: (priority(v), -system.names[v].count("der("), system.names[v]))
     values = jacobian(rows, order) if jacobian is not None else None
     if values is None:
         return _structural_greedy(order, column_rows, len(rows)), None

@@ -34,6 +34,7 @@ class StructureReport:
     torn: list[str] = field(default_factory=list)
     pruned: list[str] = field(default_factory=list)
     pivot_conditions: list[float] = field(default_factory=list)
+    levels: list[tuple[list[int], list[int], list[int]]] = field(default_factory=list)  # dummy selection
 
 
 @dataclass
@@ -95,6 +96,7 @@ def reduce(flat: FlatSystem, point: dict[str, float] | None = None,
     selection = select_states(system, analysis.priorities, flat, point)
     report.timings["dummy derivatives"] = _time.perf_counter() - clock
     report.pivot_conditions = selection.pivot_conditions
+    report.levels = selection.levels
 
     clock = _time.perf_counter()
     is_state = [False] * system.n_vars
