@@ -608,9 +608,11 @@ def simulate(model: CompiledModel, stop: float, *, start: float = 0.0, rtol: flo
              integrator_options: Mapping | None = None) -> Result:
     """Initialize consistently at `start`, integrate with IDAS to `stop`, evaluate all outputs.
 
-    `progress=None` shows a bar on a TTY stderr once the run takes more than 2 s. Showing progress
-    needs the run split into chunks (IDAS restarts at each chunk boundary, from the consistent
-    point it reached); without progress the run is one IDAS call. `chunks` forces a chunk count.
+    A progress bar on stderr needs the run split into chunks (IDAS restarts at each chunk boundary
+    from the consistent point it reached). `progress=None`: on a TTY, the first twentieth of the run
+    is timed and, unless the whole run would take more than PROGRESS_DELAY seconds, the rest is
+    one IDAS call; off a TTY the run is one call. `progress=True` always chunks and shows the bar
+    after PROGRESS_DELAY seconds. `chunks` forces a chunk count.
     """
     if model.state_sets:
         raise SimulationFailed(f"model {model.name} needs dynamic state selection "
@@ -629,9 +631,10 @@ def simulate(model: CompiledModel, stop: float, *, start: float = 0.0, rtol: flo
 
     show = (sys.stderr.isatty() if progress is None else bool(progress))
     n_chunks = int(chunks) if chunks else (min(20, len(grid) - 1) if show else 1)
+    adaptive = show and progress is None and not chunks
     began = _time.perf_counter()
     xs, zs, counters = _integrate(model, grid, p, point, rtol, atol, max_steps, n_chunks,
-                                  _Progress(show, start, stop), integrator_options)
+                                  _Progress(show, start, stop), integrator_options, adaptive)
     stats["run_time"] = _time.perf_counter() - began
     stats.update(counters)
 
@@ -656,7 +659,19 @@ _COUNTERS = {"nsteps": "steps", "nfevals": "residual_evaluations", "n_call_jacF"
              "nniters": "newton_iterations", "nncfails": "newton_convergence_failures"}
 
 
-def _integrate(model, grid, p, point, rtol, atol, max_steps, n_chunks, progress, extra):
+def _make_integrator(model: CompiledModel, dae: ca.Function, t0: float, grid: list[float],
+                     opts: dict) -> ca.Function:
+    try:
+        return ca.integrator("dyad_idas", "idas", dae, t0, grid, opts)
+    except RuntimeError as err:
+        reason = str(err).strip().splitlines()[-1]
+        raise SimulationFailed(f"cannot set up IDAS for {model.name}: {reason}", t0, reason) from None
+
+
+def _integrate(model, grid, p, point, rtol, atol, max_steps, n_chunks, progress, extra,
+               adaptive=False):
+    """Integrate over `grid` in `n_chunks` IDAS calls. With `adaptive`, the first chunk is timed and,
+    when the whole run would end before a progress bar is due, the rest is one call."""
     nx, nz = len(model.state_names), len(model.algebraic_names)
     n = len(grid)
     xs = np.empty((nx, n))
@@ -665,51 +680,94 @@ def _integrate(model, grid, p, point, rtol, atol, max_steps, n_chunks, progress,
     counters = {v: 0 for v in _COUNTERS.values()}
     counters["chunks"] = 0
     opts = _integrator_options(model, rtol, atol, max_steps, extra)
-    if nx == 0 and nz == 0:
+    if nx == 0:
+        if nz:
+            _solve_static(model, grid, p, zs, counters, progress)
         return xs, zs, counters
 
-    bounds = np.linspace(0, n - 1, max(1, min(n_chunks, n - 1)) + 1).round().astype(int)
-    uniform = n_chunks > 1 and np.allclose(np.diff(grid), grid[1] - grid[0], rtol=1e-9, atol=0)
-    dae = _dae_function(model, scaled_time=uniform)
+    bounds = [int(v) for v in
+              np.linspace(0, n - 1, max(1, min(n_chunks, n - 1)) + 1).round().astype(int)]
+    uniform = len(bounds) > 2 and np.allclose(np.diff(grid), grid[1] - grid[0], rtol=1e-9, atol=0)
     cache: dict[int, ca.Function] = {}
     x, z = point.x, point.z
     progress.update(grid[0])
+    began = _time.perf_counter()
+    segments = list(zip(bounds[:-1], bounds[1:]))
     try:
-        for a, b in zip(bounds[:-1], bounds[1:]):
-            if uniform:
-                # tau grid k/m (k = 1..m) reused by every chunk with m intervals.
-                m = b - a
-                if m not in cache:
-                    cache[m] = ca.integrator("dyad_idas", "idas", dae, 0.0,
-                                             [k / m for k in range(1, m + 1)], opts)
-                solver = cache[m]
-                pp = np.concatenate([p, [grid[a], grid[b] - grid[a]]])
-            else:
-                xdot = np.asarray(model.dae(x, z, p, grid[a])[0], dtype=float).reshape(-1)
-                solver = ca.integrator("dyad_idas", "idas", dae, float(grid[a]),
-                                       [float(v) for v in grid[a + 1:b + 1]],
-                                       dict(opts, init_xdot=list(xdot)))
-                pp = p
-            try:
-                with _CapturedStderr() as messages:
-                    sol = solver(x0=x, z0=z, p=pp)
-            except RuntimeError as err:
-                st = solver.stats()
-                reached = st.get("tcur", math.nan)
-                if uniform and math.isfinite(reached):
-                    reached = grid[a] + (grid[b] - grid[a]) * reached
-                reason = _idas_reason(str(err), messages.text)
-                raise SimulationFailed(f"simulation of {model.name} failed at t = {reached:.10g}: "
-                                       f"{reason}", float(reached), reason) from None
-            _accumulate(counters, solver.stats())
-            counters["chunks"] += 1
-            xs[:, a + 1:b + 1] = np.asarray(sol["xf"], dtype=float).reshape(nx, b - a)
-            zs[:, a + 1:b + 1] = np.asarray(sol["zf"], dtype=float).reshape(nz, b - a)
-            x, z = xs[:, b], zs[:, b]
+        while segments:
+            a, b = segments.pop(0)
+            x, z = _integrate_segment(model, grid, a, b, x, z, p, opts, uniform, cache, xs, zs,
+                                      counters)
             progress.update(grid[b])
+            if adaptive and a == 0 and segments:
+                projected = (_time.perf_counter() - began) * (n - 1) / b
+                if projected < progress.after:
+                    segments, uniform = [(b, n - 1)], False
     finally:
         progress.close()
     return xs, zs, counters
+
+
+def _integrate_segment(model, grid, a, b, x, z, p, opts, scaled, cache, xs, zs, counters):
+    """One IDAS call from grid[a] to grid[b], filling xs and zs; returns the final (x, z)."""
+    nx, nz = xs.shape[0], zs.shape[0]
+    if scaled:
+        # tau grid k/m (k = 1..m) reused by every chunk with m intervals.
+        m = b - a
+        if m not in cache:
+            cache[m] = _make_integrator(model, _dae_function(model, scaled_time=True), 0.0,
+                                        [k / m for k in range(1, m + 1)], opts)
+        solver = cache[m]
+        pp = np.concatenate([p, [grid[a], grid[b] - grid[a]]])
+    else:
+        xdot = np.asarray(model.dae(x, z, p, grid[a])[0], dtype=float).reshape(-1)
+        solver = _make_integrator(model, _dae_function(model, scaled_time=False), float(grid[a]),
+                                  [float(v) for v in grid[a + 1:b + 1]],
+                                  dict(opts, init_xdot=list(xdot)))
+        pp = p
+    try:
+        with _CapturedStderr() as messages:
+            sol = solver(x0=x, z0=z, p=pp)
+    except RuntimeError as err:
+        reached = solver.stats().get("tcur", math.nan)
+        if scaled and math.isfinite(reached):
+            reached = grid[a] + (grid[b] - grid[a]) * reached
+        reason = _idas_reason(str(err), messages.text)
+        raise SimulationFailed(f"simulation of {model.name} failed at t = {reached:.10g}: "
+                               f"{reason}", float(reached), reason) from None
+    _accumulate(counters, solver.stats())
+    counters["chunks"] += 1
+    xs[:, a + 1:b + 1] = np.asarray(sol["xf"], dtype=float).reshape(nx, b - a)
+    zs[:, a + 1:b + 1] = np.asarray(sol["zf"], dtype=float).reshape(nz, b - a)
+    return xs[:, b], zs[:, b]
+
+
+def _solve_static(model: CompiledModel, grid: np.ndarray, p: np.ndarray, zs: np.ndarray,
+                  counters: dict, progress: _Progress) -> None:
+    """No states: IDAS has nothing to integrate, so solve 0 = alg(z, p, t) at every output time,
+    each solve starting from the previous solution."""
+    z_sym = ca.SX.sym("z", len(model.algebraic_names))
+    t_sym = ca.SX.sym("t")
+    p_sym = ca.SX.sym("p", len(model.parameter_names))
+    alg = model.dae(ca.SX(0, 1), z_sym, p_sym, t_sym)[1]
+    fun = ca.Function("alg_jac", [z_sym, p_sym, t_sym], [alg, ca.jacobian(alg, z_sym)])
+    tol = 1e-12
+    try:
+        for k in range(1, len(grid)):
+            def evaluate(z_: np.ndarray, t_=grid[k]) -> tuple[np.ndarray, np.ndarray]:
+                r_, j_ = fun(z_, p, t_)
+                return np.asarray(r_, dtype=float).reshape(-1), np.asarray(ca.densify(j_), dtype=float)
+            z, r, jac, iterations = _levenberg_marquardt(evaluate, zs[:, k - 1].copy(), tol, 100)
+            counters["newton_iterations"] += iterations
+            if not np.all(_scaled_residual(r, jac, z) <= tol * 1e3):
+                reason = "the algebraic equations have no solution near the previous one"
+                raise SimulationFailed(f"simulation of {model.name} failed at t = {grid[k]:.10g}: "
+                                       f"{reason}", float(grid[k - 1]), reason)
+            zs[:, k] = z
+            counters["steps"] += 1
+            progress.update(grid[k])
+    finally:
+        progress.close()
 
 
 def _accumulate(counters: dict, st: Mapping) -> None:

@@ -3,13 +3,16 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import sympy
 from scipy.integrate import solve_ivp
 
 import runtime_systems as systems
 from compiler import runtime
 from compiler.errors import DyadError, SimulationError
+from compiler.flat import TIME
 from compiler.lower_casadi import lower
 from compiler.simulate import compile_model, simulate_model, simulate_reduced
+from compiler.structure.reduced import InitialProblem, ReducedSystem
 
 
 def robertson_reference(t_end: float) -> np.ndarray:
@@ -153,3 +156,31 @@ def test_unknown_output_name_in_result_suggests_close_names():
     result = simulate_reduced(systems.rc_circuit(), 0.1, points=3)
     with pytest.raises(runtime.ModelInputError, match=r"'C\.v'"):
         result["C.V"]
+
+
+def test_model_without_states_solves_its_algebraic_equations_at_every_time():
+    z = sympy.Symbol("z")
+    system = ReducedSystem(
+        name="Cubic", states=[], ode=[], algebraics=["z"], alg=[z**3 + z - TIME], assignments=[],
+        observables=[], parameters=[], initial=InitialProblem([z**3 + z - TIME], [None]),
+        output_names=["z"])
+    result = runtime.simulate(lower(system), 2.0, points=9)
+    z_values = result["z"]
+    np.testing.assert_allclose(z_values**3 + z_values, result.time, atol=1e-12)
+
+
+def test_bad_integrator_options_are_a_simulation_error():
+    with pytest.raises(SimulationError, match="cannot set up IDAS"):
+        simulate_reduced(systems.rc_circuit(), 0.1, integrator_options={"no_such_option": 1})
+
+
+@pytest.mark.parametrize("delay, expected_chunks", [(1e9, 2), (0.0, 20)])
+def test_terminal_runs_chunk_only_when_the_run_is_slow(monkeypatch, capsys, delay, expected_chunks):
+    model = lower(systems.pendulum_angle(0.5))
+    monkeypatch.setattr(runtime.sys.stderr, "isatty", lambda: True, raising=False)
+    monkeypatch.setattr(runtime, "PROGRESS_DELAY", delay)
+    result = runtime.simulate(model, 2.0, rtol=1e-9, atol=1e-11, points=41)
+    assert result.stats["chunks"] == expected_chunks
+    reference = pendulum_angle_reference(result.time, 0.5)
+    assert np.max(np.abs(result["theta"] - reference)) < 1e-6
+    assert ("t = 2 / 2" in capsys.readouterr().err) == (delay == 0.0)
