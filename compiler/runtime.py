@@ -114,6 +114,7 @@ class CompiledModel:
         self._init_jacobian: ca.Function | None = None
         self.native_library: str | None = None
         self._native_dae: ca.Function | None = None
+        self.compile_time: float | None = None        # set by the compiler; not serialized
 
     # -- native (C) code ---------------------------------------------------------------------------
     NATIVE_DAE_NAME = "dyad_dae"
@@ -621,7 +622,7 @@ def simulate(model: CompiledModel, stop: float, *, start: float = 0.0, rtol: flo
     grid = output_grid(float(start), float(stop), points, saveat)
     start, stop = float(grid[0]), float(grid[-1])
     p = model.parameter_vector(params)
-    stats: dict = {"compile_time": None}
+    stats: dict = {"compile_time": model.compile_time}
 
     began = _time.perf_counter()
     point = consistent_initialization(model, p, start)

@@ -22,7 +22,7 @@ def compile_model(reduced: ReducedSystem, codegen: str | None = None) -> Compile
             raise DyadError(f"unknown code generation target '{codegen}' (expected 'c' or none)")
         from compiler.ccodegen import compile_c
         model = compile_c(model)
-    model.metadata["compile_time"] = time.perf_counter() - began
+    model.compile_time = time.perf_counter() - began
     return model
 
 
@@ -30,9 +30,7 @@ def simulate_model(model: CompiledModel, stop: float, reduced: ReducedSystem | N
                    **options) -> Result:
     """runtime.simulate with failures as DyadErrors; `reduced` (optional) locates init residuals."""
     with runtime_errors(reduced):
-        result = runtime.simulate(model, stop, **options)
-    result.stats["compile_time"] = model.metadata.get("compile_time")
-    return result
+        return runtime.simulate(model, stop, **options)
 
 
 def simulate_reduced(reduced: ReducedSystem, stop: float, *, codegen: str | None = None,

@@ -89,3 +89,10 @@ print(rc.model().name, float(r["C.v"][-1]), "dyad_runtime" in sys.modules)
 def test_invalid_module_name_is_refused(tmp_path):
     with pytest.raises(DyadError, match="not a valid Python module name"):
         write_module(lower(systems.rc_circuit()), "my-model", tmp_path)
+
+
+def test_compiled_model_written_twice_gives_identical_modules(tmp_path):
+    from compiler.simulate import compile_model
+    for out in ("a", "b"):
+        write_module(compile_model(systems.rc_circuit()), "rc", tmp_path / out)
+    assert (tmp_path / "a" / "rc.py").read_bytes() == (tmp_path / "b" / "rc.py").read_bytes()
