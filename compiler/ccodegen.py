@@ -114,3 +114,8 @@ def _fallback(model: CompiledModel, why: str) -> CompiledModel:
                   CodegenWarning, stacklevel=3)
     model.metadata["codegen"] = "vm"
     return model
+
+
+def use_c_code(model: CompiledModel) -> CompiledModel:
+    """The CLI's `--codegen c`: `model` with its DAE compiled to C (or unchanged, with a warning)."""
+    return compile_c(model)
