@@ -159,9 +159,24 @@ class TypeInfo:
     attributes: list[tuple[ast.Modification, Lexical]]   # lowest precedence first
     dims: list[tuple[ast.Expr, Lexical]]
     name: str
+    spec: ast.TypeSpec | None = None
 
 
 def resolve_value_type(spec: ast.TypeSpec, lexical: Lexical, depth: int = 0) -> TypeInfo:
+    """The primitive type, attributes and sizes behind a type name (memoized per library: the
+    same declaration is resolved once however many instances it has)."""
+    cache = lexical.library.type_cache
+    key = (id(spec), lexical.package, id(lexical.file))
+    found = cache.get(key)
+    if found is not None and found.spec is spec:
+        return found
+    info = _resolve_value_type(spec, lexical, depth)
+    info.spec = spec
+    cache[key] = info
+    return info
+
+
+def _resolve_value_type(spec: ast.TypeSpec, lexical: Lexical, depth: int = 0) -> TypeInfo:
     if depth > 20:
         raise DyadError(f"type `{spec.name}` is defined in terms of itself", spec.span)
     own_attrs = [(m, lexical) for m in spec.modifications]

@@ -72,6 +72,7 @@ class Library:
         self._texts: dict[Path, str] = {}
         self._found: dict[str, Resolved | None] = {}
         self._lookup_cache: dict[tuple[str, int, str], Resolved | None] = {}
+        self.type_cache: dict[tuple, object] = {}     # used by compiler.instantiate
 
     # -------------------------------------------------------------------------------- files
 
