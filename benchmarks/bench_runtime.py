@@ -14,9 +14,9 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT), str(ROOT / "tests" / "runtime")]
+sys.path.insert(0, str(ROOT))
 
-import runtime_systems as systems  # noqa: E402
+from tests.runtime import runtime_systems as systems  # noqa: E402
 from compiler import ccodegen, runtime  # noqa: E402
 from compiler.lower_casadi import lower  # noqa: E402
 

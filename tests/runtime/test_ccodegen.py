@@ -9,7 +9,7 @@ import sys
 import numpy as np
 import pytest
 
-import runtime_systems as systems
+from tests.runtime import runtime_systems as systems
 from compiler import ccodegen, runtime
 from compiler.codegen import write_module
 from compiler.lower_casadi import lower

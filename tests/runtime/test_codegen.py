@@ -10,14 +10,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import runtime_systems as systems
+from tests.runtime import runtime_systems as systems
 from compiler import runtime
 from compiler.codegen import write_module
 from compiler.errors import DyadError
 from compiler.lower_casadi import lower
 
 REPO = Path(__file__).resolve().parents[2]
-HERE = Path(__file__).resolve().parent
 
 
 def run_python(code: str, env_extra: dict[str, str] | None = None, cwd: Path | None = None) -> str:
@@ -31,8 +30,8 @@ def run_python(code: str, env_extra: dict[str, str] | None = None, cwd: Path | N
 
 GENERATE = """
 import sys
-sys.path[:0] = [{repo!r}, {here!r}]
-import runtime_systems as systems
+sys.path.insert(0, {repo!r})
+from tests.runtime import runtime_systems as systems
 from compiler.codegen import write_module
 from compiler.lower_casadi import lower
 write_module(lower(systems.{system}()), {module!r}, {out!r})
@@ -44,7 +43,7 @@ def test_generated_module_is_byte_identical_across_hash_seeds(tmp_path, system):
     texts = []
     for seed in ("1", "4242"):
         out = tmp_path / f"seed{seed}"
-        run_python(GENERATE.format(repo=str(REPO), here=str(HERE), system=system, module="model",
+        run_python(GENERATE.format(repo=str(REPO), system=system, module="model",
                                    out=str(out)), {"PYTHONHASHSEED": seed})
         texts.append(((out / "model.py").read_bytes(), (out / "dyad_runtime.py").read_bytes()))
     assert texts[0] == texts[1]

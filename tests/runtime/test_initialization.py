@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 import sympy
 
-import runtime_systems as systems
+from tests.runtime import runtime_systems as systems
 from compiler import runtime
 from compiler.errors import SimulationError
 from compiler.lower_casadi import lower

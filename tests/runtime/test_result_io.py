@@ -7,7 +7,7 @@ import os
 import numpy as np
 import pytest
 
-import runtime_systems as systems
+from tests.runtime import runtime_systems as systems
 from compiler import runtime
 from compiler.lower_casadi import lower
 

@@ -6,7 +6,7 @@ import pytest
 import sympy
 from scipy.integrate import solve_ivp
 
-import runtime_systems as systems
+from tests.runtime import runtime_systems as systems
 from compiler import runtime
 from compiler.errors import DyadError, SimulationError
 from compiler.flat import TIME
