@@ -7,7 +7,6 @@ from __future__ import annotations
 
 from typing import Any, Sequence
 
-import numpy as np
 import sympy
 
 from compiler.balance import check_balance, component_balance  # noqa: F401  (public API)

@@ -17,7 +17,7 @@ import sympy
 
 from compiler.errors import DyadError, Note, Span
 from compiler.expressions import CONDITION_TYPES, NOT_FOUND, EvalScope, Lexical, MissingValue, Mode, evaluate, \
-    is_array, shape_of, structural_bool, structural_int, iteration_values, to_bool, _num
+    is_array, shape_of, structural_bool, structural_int, iteration_values, _num
 from compiler.flat import der_name
 from compiler.library import PRIMITIVE_TYPES, Library, Resolved
 from compiler.syntax import ast
