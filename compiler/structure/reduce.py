@@ -202,8 +202,15 @@ def _assemble(flat, alias, system, selection, causal: Causalization, report) -> 
         assignments=kept, observables=observables, parameters=parameters, initial=initial,
         output_names=[v.name for v in flat.variables],
         alg_origins=[system.origins[e] for e in causal.residual_equations],
-        metadata=dict(flat.metadata),
+        metadata=dict(flat.metadata, nominals=_nominals(flat, states + algebraics)),
     )
+
+
+def _nominals(flat: FlatSystem, names: list[str]) -> dict[str, float]:
+    """Size of each IDAS unknown, from its start value: absolute tolerances scale with it
+    (a pressure of 1e7 Pa and an angle of 1 rad cannot share one absolute tolerance)."""
+    starts = {v.name: v.start for v in flat.variables if v.start is not None}
+    return {n: max(1.0, abs(float(starts[n]))) for n in names if n in starts and abs(float(starts[n])) > 1.0}
 
 
 def _guesses(flat: FlatSystem) -> dict[str, float]:
