@@ -606,6 +606,7 @@ def simulate(model: CompiledModel, stop: float, *, start: float = 0.0, rtol: flo
              atol: float | Mapping[str, float] = 1e-6, points: int = 501,
              saveat: Sequence[float] | None = None, params: Mapping[str, float] | None = None,
              max_steps: int = 100000, progress: bool | None = None, chunks: int | None = None,
+             breakpoints: Sequence[float] | None = None,
              integrator_options: Mapping | None = None) -> Result:
     """Initialize consistently at `start`, integrate with IDAS to `stop`, evaluate all outputs.
 
@@ -614,6 +615,8 @@ def simulate(model: CompiledModel, stop: float, *, start: float = 0.0, rtol: flo
     is timed and, unless the whole run would take more than PROGRESS_DELAY seconds, the rest is
     one IDAS call; off a TTY the run is one call. `progress=True` always chunks and shows the bar
     after PROGRESS_DELAY seconds. `chunks` forces a chunk count.
+    `breakpoints` (default: model.metadata["breakpoints"]) are times where the model's inputs
+    lose smoothness: IDAS stops exactly there and restarts, instead of stepping across the kink.
     """
     if model.state_sets:
         raise SimulationFailed(f"model {model.name} needs dynamic state selection "
@@ -621,6 +624,10 @@ def simulate(model: CompiledModel, stop: float, *, start: float = 0.0, rtol: flo
                                start, "dynamic state selection not supported")
     grid = output_grid(float(start), float(stop), points, saveat)
     start, stop = float(grid[0]), float(grid[-1])
+    if breakpoints is None:
+        breakpoints = model.metadata.get("breakpoints") or []
+    inner = sorted({float(b) for b in breakpoints if start < float(b) < stop})
+    solve_grid = np.union1d(grid, inner) if inner else grid
     p = model.parameter_vector(params)
     stats: dict = {"compile_time": model.compile_time}
 
@@ -631,13 +638,17 @@ def simulate(model: CompiledModel, stop: float, *, start: float = 0.0, rtol: flo
     stats["init_residual"] = point.residual
 
     show = (sys.stderr.isatty() if progress is None else bool(progress))
-    n_chunks = int(chunks) if chunks else (min(20, len(grid) - 1) if show else 1)
+    n_chunks = int(chunks) if chunks else (min(20, len(solve_grid) - 1) if show else 1)
     adaptive = show and progress is None and not chunks
     began = _time.perf_counter()
-    xs, zs, counters = _integrate(model, grid, p, point, rtol, atol, max_steps, n_chunks,
-                                  _Progress(show, start, stop), integrator_options, adaptive)
+    xs, zs, counters = _integrate(model, solve_grid, p, point, rtol, atol, max_steps, n_chunks,
+                                  _Progress(show, start, stop), integrator_options, adaptive,
+                                  split_at=[int(i) for i in np.searchsorted(solve_grid, inner)])
     stats["run_time"] = _time.perf_counter() - began
     stats.update(counters)
+    if inner:
+        keep = np.searchsorted(solve_grid, grid)
+        xs, zs = xs[:, keep], zs[:, keep]
 
     began = _time.perf_counter()
     values = _evaluate_outputs(model, xs, zs, p, grid)
@@ -670,9 +681,10 @@ def _make_integrator(model: CompiledModel, dae: ca.Function, t0: float, grid: li
 
 
 def _integrate(model, grid, p, point, rtol, atol, max_steps, n_chunks, progress, extra,
-               adaptive=False):
-    """Integrate over `grid` in `n_chunks` IDAS calls. With `adaptive`, the first chunk is timed and,
-    when the whole run would end before a progress bar is due, the rest is one call."""
+               adaptive=False, split_at=()):
+    """Integrate over `grid` in `n_chunks` IDAS calls, also stopping at the grid indices `split_at`.
+    With `adaptive`, the first chunk is timed and, when the whole run would end before a progress
+    bar is due, the rest is one call per breakpoint segment."""
     nx, nz = len(model.state_names), len(model.algebraic_names)
     n = len(grid)
     xs = np.empty((nx, n))
@@ -688,7 +700,10 @@ def _integrate(model, grid, p, point, rtol, atol, max_steps, n_chunks, progress,
 
     bounds = [int(v) for v in
               np.linspace(0, n - 1, max(1, min(n_chunks, n - 1)) + 1).round().astype(int)]
-    uniform = len(bounds) > 2 and np.allclose(np.diff(grid), grid[1] - grid[0], rtol=1e-9, atol=0)
+    splits = sorted({int(i) for i in split_at if 0 < int(i) < n - 1})
+    bounds = sorted(set(bounds) | set(splits))
+    uniform = (len(bounds) > 2 and not splits
+               and np.allclose(np.diff(grid), grid[1] - grid[0], rtol=1e-9, atol=0))
     cache: dict[int, ca.Function] = {}
     x, z = point.x, point.z
     progress.update(grid[0])
@@ -703,7 +718,8 @@ def _integrate(model, grid, p, point, rtol, atol, max_steps, n_chunks, progress,
             if adaptive and a == 0 and segments:
                 projected = (_time.perf_counter() - began) * (n - 1) / b
                 if projected < progress.after:
-                    segments, uniform = [(b, n - 1)], False
+                    rest = [b] + [i for i in splits if i > b] + [n - 1]
+                    segments, uniform = list(zip(rest[:-1], rest[1:])), False
     finally:
         progress.close()
     return xs, zs, counters

@@ -184,3 +184,27 @@ def test_terminal_runs_chunk_only_when_the_run_is_slow(monkeypatch, capsys, dela
     reference = pendulum_angle_reference(result.time, 0.5)
     assert np.max(np.abs(result["theta"] - reference)) < 1e-6
     assert ("t = 2 / 2" in capsys.readouterr().err) == (delay == 0.0)
+
+
+def kinked_ramp() -> ReducedSystem:
+    """der(x) = max(0, t - 0.37): a kink in the input at t = 0.37, x(t) = max(0, t - 0.37)^2 / 2."""
+    x = sympy.Symbol("x")
+    return ReducedSystem(
+        name="Ramp", states=["x"], ode=[sympy.Piecewise((0.0, TIME < 0.37), (TIME - 0.37, True))],
+        algebraics=[], alg=[], assignments=[], observables=[], parameters=[],
+        initial=InitialProblem([x], [None]), output_names=["x"], metadata={})
+
+
+@pytest.mark.parametrize("chunks", [None, 4])
+def test_breakpoints_stop_the_solver_at_input_kinks(chunks):
+    model = lower(kinked_ramp())
+    options = dict(points=11, rtol=1e-6, atol=1e-8, chunks=chunks)
+    across = runtime.simulate(model, 1.0, **options)
+    stopped = runtime.simulate(model, 1.0, breakpoints=[0.37, 5.0], **options)
+    assert stopped.time.tolist() == across.time.tolist() and 0.37 not in stopped.time
+    exact = np.maximum(stopped.time - 0.37, 0.0) ** 2 / 2
+    # Stepping across the kink costs rejected steps and accuracy; stopping there costs neither.
+    assert np.max(np.abs(stopped["x"] - exact)) < np.max(np.abs(across["x"] - exact))
+    assert stopped.stats["error_test_failures"] <= 1 < across.stats["error_test_failures"]
+    model.metadata["breakpoints"] = [0.37]              # the model can carry its own
+    np.testing.assert_array_equal(runtime.simulate(model, 1.0, **options)["x"], stopped["x"])
