@@ -208,3 +208,16 @@ def test_breakpoints_stop_the_solver_at_input_kinks(chunks):
     assert stopped.stats["error_test_failures"] <= 1 < across.stats["error_test_failures"]
     model.metadata["breakpoints"] = [0.37]              # the model can carry its own
     np.testing.assert_array_equal(runtime.simulate(model, 1.0, **options)["x"], stopped["x"])
+
+
+def test_nominal_values_scale_the_absolute_tolerance_per_unknown():
+    system = systems.rc_circuit()
+    system.metadata["nominals"] = {"C.v": 10.0, "R.i": 0.01}
+    model = lower(system)
+    assert model.nominals == {"C.v": 10.0, "R.i": 0.01}
+    options = runtime._integrator_options(model, 1e-8, 1e-6, 1000, None)
+    assert options["abstolv"] == pytest.approx([1e-5, 1e-8], rel=1e-15)
+    options = runtime._integrator_options(model, 1e-8, {"*": 1e-6, "R.i": 1e-12}, 1000, None)
+    assert options["abstolv"] == pytest.approx([1e-5, 1e-12], rel=1e-15)
+    result = runtime.simulate(model, 0.5, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(result["C.v"], 10 * (1 - np.exp(-result.time / 0.1)), atol=1e-7)
