@@ -15,7 +15,7 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 run: install
-	$(BIN)/dyadc check components
+	$(BIN)/python -m compiler.render.scene_outputs out
 
 test: install
 	$(BIN)/python -m pytest -n 2 tests
