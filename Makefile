@@ -15,7 +15,7 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 run: install
-	$(BIN)/python -m compiler.render.scene_outputs out
+	$(BIN)/python -c "from compiler.render.scene_outputs import main_scene_outputs; raise SystemExit(main_scene_outputs('out'))"
 
 test: install
 	$(BIN)/python -m pytest -n 2 tests
