@@ -1,0 +1,163 @@
+"""`dyadc test`: golden-trajectory tests declared in component metadata.
+
+A case (see compiler.golden_cases) is simulated at its production tolerance and compared, signal
+by signal, with the golden CSV tests/golden/<QualifiedModelName>.<case>.csv inside a tube
+|y - y_golden| <= atol_s + rtol_s |y_golden|; the "final" values of the metadata are checked at the
+stop time within the same per-signal tube. Goldens are only ever written by `update=True`
+(`dyadc test --update`), from a run at GOLDEN_RTOL with absolute tolerances GOLDEN_RTOL scaled by
+the unknowns' nominal sizes. The metadata's "final" values are never written by the tool: they
+are statements made (and independently checked) by a person, and an update whose run disagrees
+with them is refused.
+"""
+from __future__ import annotations
+
+import os
+import sys
+import time
+from pathlib import Path
+from typing import Mapping, Sequence
+
+from compiler.errors import DyadError
+from compiler.golden_cases import TestCase, cases_from_metadata, discover, parse_span_text
+from compiler.golden_compare import (CaseReport, compare_finals, compare_signals, golden_path,
+                                     read_golden, signal_values, write_golden)
+
+GOLDEN_RTOL = 1e-10
+GOLDEN_DIR = Path(__file__).resolve().parent.parent / "tests" / "golden"
+
+
+def cases_of_compilation(model: str, compilation) -> list[TestCase]:
+    metadata = compilation.flat.metadata
+    return cases_from_metadata(model, metadata.get("Dyad", {}),
+                               parse_span_text(metadata.get("model_span")))
+
+
+def integrator_atol(compilation, case: TestCase, base: float) -> dict[str, float]:
+    """`base` for every unknown (the runtime scales it by start-value nominals), times the case's
+    stated nominal size where it gives one."""
+    model = compilation.model
+    unknowns = set(model.state_names) | set(model.algebraic_names)
+    for name in case.nominal:
+        if name not in unknowns:
+            raise DyadError(f"test case `{case.name}`: nominal given for `{name}`, which is not a "
+                            f"state or algebraic unknown of {case.model}", case.span)
+    return {"*": base, **{name: base * size for name, size in case.nominal.items()}}
+
+
+def _simulate(compilation, case: TestCase, rtol: float):
+    from compiler import api
+    return api.simulate_compiled(compilation, case.stop, start=case.start, rtol=rtol,
+                                 atol=integrator_atol(compilation, case, rtol), points=case.points)
+
+
+def run_case(compilation, case: TestCase, golden_dir: str | os.PathLike | None = None,
+             spec: str | None = None) -> CaseReport:
+    """Simulate at the case's tolerance and compare with its golden. Never writes anything.
+    `spec` is how the user named the model (for the hint on a missing golden)."""
+    report = CaseReport(case)
+    began = time.perf_counter()
+    path = golden_path(GOLDEN_DIR if golden_dir is None else golden_dir, case)
+    try:
+        if not os.path.isfile(path):
+            raise DyadError(f"no golden file {path}", case.span,
+                            hint=f"create it explicitly: dyadc test {spec or case.model} --update")
+        golden = read_golden(path)
+        result = _simulate(compilation, case, case.rtol)
+    except DyadError as err:
+        report.error = err.format()
+        report.seconds = time.perf_counter() - began
+        return report
+    names = list(case.signals) + list(case.final)
+    values = signal_values(result, names)
+    report.signals, report.notes = compare_signals(case, result.time, values, golden)
+    report.finals = compare_finals(case, result.time, values)
+    report.seconds = time.perf_counter() - began
+    return report
+
+
+def update_case(compilation, case: TestCase, golden_dir: str | os.PathLike | None = None) -> CaseReport:
+    """Simulate at GOLDEN_RTOL and rewrite the golden, unless the run disagrees with the case's
+    "final" values (then nothing is written and the report fails)."""
+    report = CaseReport(case)
+    began = time.perf_counter()
+    path = golden_path(GOLDEN_DIR if golden_dir is None else golden_dir, case)
+    try:
+        result = _simulate(compilation, case, GOLDEN_RTOL)
+    except DyadError as err:
+        report.error = f"golden run at rtol {GOLDEN_RTOL:g} failed: {err.format()}"
+        report.seconds = time.perf_counter() - began
+        return report
+    run_seconds = time.perf_counter() - began
+    missing = [n for n in case.signals if n not in result]
+    if missing:
+        report.error = (f"golden not written: the model has no signal(s) {', '.join(missing)}")
+        report.seconds = run_seconds
+        return report
+    report.finals = compare_finals(case, result.time, signal_values(result, list(case.final)))
+    if not report.passed:
+        report.notes.append(f"golden NOT written to {path}: the golden run disagrees with the "
+                            f"metadata's final values")
+        report.seconds = run_seconds
+        return report
+    write_golden(path, result.time, {n: result[n] for n in case.signals})
+    report.notes.append(f"wrote {path} ({len(case.signals)} signals x {len(result.time)} rows, "
+                        f"{os.path.getsize(path) / 1e6:.2f} MB; rtol {GOLDEN_RTOL:g}, "
+                        f"run {run_seconds:.1f} s, {result.stats.get('steps', '?')} steps)")
+    report.seconds = time.perf_counter() - began
+    return report
+
+
+def _targets(model_spec: str | None, lib_dirs: Sequence[str]) -> list[tuple[str, str | None]]:
+    """(model spec to compile, qualified name or None when the spec is a file) per model."""
+    if model_spec is not None:
+        return [(model_spec, None)]
+    return [(model, model) for model in dict.fromkeys(c.model for c in discover(lib_dirs))]
+
+
+def run_tests(model_spec: str | None, lib_dirs: Sequence[str] = (), update: bool = False,
+              golden_dir: str | os.PathLike | None = None, out=None) -> list[CaseReport]:
+    """Run (or with `update`, regenerate) every case of one model, or of every model with cases.
+    Compile errors become failed reports; a model given explicitly without cases is an error."""
+    from compiler import api
+
+    out = out or sys.stdout
+    reports: list[CaseReport] = []
+    for spec, qualified in _targets(model_spec, lib_dirs):
+        compilation = api.compile(spec, lib_dirs)
+        model = qualified or _qualified_name(spec, lib_dirs)
+        cases = cases_of_compilation(model, compilation)
+        if not cases and model_spec is not None:
+            raise DyadError(f'{model} declares no test cases (metadata {{"Dyad": {{"tests": ...}}}})',
+                            parse_span_text(compilation.flat.metadata.get("model_span")))
+        for case in cases:
+            if update:
+                report = update_case(compilation, case, golden_dir)
+            else:
+                report = run_case(compilation, case, golden_dir, spec)
+            print(report.format(verbose=not update), file=out, flush=True)
+            reports.append(report)
+    return reports
+
+
+def _qualified_name(spec: str, lib_dirs: Sequence[str]) -> str:
+    from compiler.library import load_model
+    return load_model(spec, lib_dirs)[2]
+
+
+def main_test(model_spec: str | None, lib_dirs: list[str], update: bool) -> int:
+    """Entry point of `dyadc test [MODEL] [--lib DIR] [--update]`: prints results, returns 0 when
+    every case passed (or every golden was written) and 1 otherwise, including when there was
+    nothing to test."""
+    try:
+        reports = run_tests(model_spec, lib_dirs, update)
+    except DyadError as err:
+        print(err.format(), file=sys.stderr)
+        return 1
+    if not reports:
+        print("no test cases found (metadata {\"Dyad\": {\"tests\": ...}} in components/ and --lib dirs)",
+              file=sys.stderr)
+        return 1
+    failed = [r for r in reports if not r.passed]
+    verb = "updated" if update else "passed"
+    print(f"{len(reports) - len(failed)} {verb}, {len(failed)} failed", flush=True)
+    return 1 if failed else 0

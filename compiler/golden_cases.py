@@ -1,0 +1,216 @@
+"""Golden-trajectory test cases declared in component metadata, and where to find them.
+
+A case lives in a component's metadata, the Dyad way:
+
+    metadata {"Dyad": {"tests": {"dig_cycle": {
+        "stop": 12, "points": 1201, "rtol": 1e-6,
+        "atol": {"a.x": 1e-5, "*": 1e-6}, "signal_rtol": {"a.x": 1e-4},
+        "nominal": {"load.m": 100},
+        "expect": {"signals": ["a.x"], "final": {"a.x": 0.25}}}}}}
+
+`atol` / `signal_rtol` are the per-signal comparison tube (a number, or a dict with an optional
+"*" default); `rtol` is the integrator tolerance of the production run; `nominal` sizes of
+unknowns scale the integrator's absolute tolerances (beyond the start-value nominals the runtime
+already uses). Malformed cases are DyadErrors located at the case's key in the source.
+"""
+from __future__ import annotations
+
+import math
+import os
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Sequence
+
+from compiler.errors import DyadError, Span
+from compiler.syntax import ast
+
+DEFAULT_RTOL = 1e-6             # production integrator tolerance when a case states none
+DEFAULT_POINTS = 501            # same default as `dyadc simulate`
+DEFAULT_SIGNAL_RTOL = 0.0       # the metadata's atol alone makes the tube unless it says more
+_KNOWN_KEYS = {"stop", "start", "points", "rtol", "atol", "signal_rtol", "nominal", "expect",
+               "description"}
+
+
+@dataclass(frozen=True)
+class TestCase:
+    model: str                          # qualified name of the component
+    name: str
+    stop: float
+    start: float = 0.0
+    points: int = DEFAULT_POINTS
+    rtol: float = DEFAULT_RTOL
+    signals: tuple[str, ...] = ()
+    atol: dict[str, float] = field(default_factory=dict)         # per signal, "*" resolved
+    signal_rtol: dict[str, float] = field(default_factory=dict)  # per signal, "*" resolved
+    nominal: dict[str, float] = field(default_factory=dict)
+    final: dict[str, float] = field(default_factory=dict)
+    span: Span | None = None
+
+    __test__ = False            # not a pytest class, despite its name
+
+    @property
+    def label(self) -> str:
+        return f"{self.model}.{self.name}"
+
+    def tube(self, signal: str) -> tuple[float, float]:
+        return self.atol[signal], self.signal_rtol[signal]
+
+
+def parse_span_text(text: str | None) -> Span | None:
+    """`file:line:col` (as flattening records the model's span) back into a Span."""
+    if not text:
+        return None
+    match = re.fullmatch(r"(.*):(\d+):(\d+)", text)
+    if not match:
+        return None
+    line, column = int(match.group(2)), int(match.group(3))
+    return Span(match.group(1), line, column, line, column)
+
+
+def case_span(model_span: Span | None, case_name: str) -> Span | None:
+    """The span of `"case_name"` in the metadata after the component's header (JSON keeps no
+    positions), falling back to the component itself."""
+    if model_span is None:
+        return None
+    try:
+        lines = Path(model_span.file).read_text(encoding="utf-8").splitlines()
+    except (OSError, UnicodeDecodeError):
+        return model_span
+    key = f'"{case_name}"'
+    for number in range(model_span.line, len(lines) + 1):
+        column = lines[number - 1].find(key)
+        if column >= 0:
+            return Span(model_span.file, number, column + 1, number, column + len(key))
+    return model_span
+
+
+def cases_from_metadata(model: str, dyad_metadata: Any, model_span: Span | None) -> list[TestCase]:
+    """Every case of `metadata["Dyad"]["tests"]`, validated."""
+    if not isinstance(dyad_metadata, dict):
+        return []
+    tests = dyad_metadata.get("tests")
+    if tests is None:
+        return []
+    if not isinstance(tests, dict):
+        raise DyadError(f'metadata "tests" of {model} must be an object of named cases', model_span)
+    return [_parse_case(model, name, spec, case_span(model_span, name)) for name, spec in tests.items()]
+
+
+def _parse_case(model: str, name: str, spec: Any, span: Span | None) -> TestCase:
+    where = f"test case `{name}` of {model}"
+    if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
+        raise DyadError(f"{where}: a case name must be an identifier (it names the golden file)", span)
+    if not isinstance(spec, dict):
+        raise DyadError(f"{where} must be a JSON object", span)
+    unknown = sorted(set(spec) - _KNOWN_KEYS)
+    if unknown:
+        raise DyadError(f"{where}: unknown key(s) {', '.join(unknown)}", span,
+                        hint="known keys: " + ", ".join(sorted(_KNOWN_KEYS)))
+    if "stop" not in spec:
+        raise DyadError(f'{where} has no "stop" time', span)
+    stop = _number(spec["stop"], f'{where}: "stop"', span)
+    start = _number(spec.get("start", 0.0), f'{where}: "start"', span)
+    if not stop > start:
+        raise DyadError(f"{where}: stop {stop} must be greater than start {start}", span)
+    points = spec.get("points", DEFAULT_POINTS)
+    if not isinstance(points, int) or isinstance(points, bool) or points < 2:
+        raise DyadError(f'{where}: "points" must be an integer >= 2', span)
+    rtol = _positive(spec.get("rtol", DEFAULT_RTOL), f'{where}: "rtol" (integrator tolerance)', span)
+    expect = spec.get("expect", {})
+    if not isinstance(expect, dict):
+        raise DyadError(f'{where}: "expect" must be an object', span)
+    signals = expect.get("signals", [])
+    if not isinstance(signals, list) or not all(isinstance(s, str) for s in signals):
+        raise DyadError(f'{where}: "expect.signals" must be a list of signal names', span)
+    if len(set(signals)) != len(signals):
+        raise DyadError(f'{where}: "expect.signals" names a signal twice', span)
+    final = expect.get("final", {})
+    if not isinstance(final, dict):
+        raise DyadError(f'{where}: "expect.final" must be an object of signal: value', span)
+    final = {k: _number(v, f'{where}: final value of "{k}"', span) for k, v in final.items()}
+    if not signals and not final:
+        raise DyadError(f'{where} expects nothing: give "expect.signals" and/or "expect.final"', span)
+    compared = list(dict.fromkeys(list(signals) + list(final)))
+    atol = _per_signal(spec.get("atol"), compared, None, f'{where}: "atol"', span)
+    signal_rtol = _per_signal(spec.get("signal_rtol"), compared, DEFAULT_SIGNAL_RTOL,
+                              f'{where}: "signal_rtol"', span)
+    nominal = spec.get("nominal", {})
+    if not isinstance(nominal, dict):
+        raise DyadError(f'{where}: "nominal" must be an object of unknown: size', span)
+    nominal = {k: _positive(v, f'{where}: nominal of "{k}"', span) for k, v in nominal.items()}
+    return TestCase(model, name, stop, start, points, rtol, tuple(signals), atol, signal_rtol,
+                    nominal, final, span)
+
+
+def _per_signal(value: Any, signals: Sequence[str], default: float | None, what: str,
+                span: Span | None) -> dict[str, float]:
+    if value is None:
+        value = {}
+    if not isinstance(value, dict):
+        value = {"*": value}
+    fallback = value.get("*", default)
+    out: dict[str, float] = {}
+    for signal in signals:
+        raw = value.get(signal, fallback)
+        if raw is None:
+            raise DyadError(f"{what} gives no tolerance for signal `{signal}`", span,
+                            hint='add it, or a "*" default')
+        out[signal] = _non_negative(raw, f"{what} of `{signal}`", span)
+    stray = sorted(set(value) - set(signals) - {"*"})
+    if stray:
+        raise DyadError(f"{what} names signal(s) the case does not compare: {', '.join(stray)}", span)
+    return out
+
+
+def _number(value: Any, what: str, span: Span | None) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        raise DyadError(f"{what} must be a finite number, got {value!r}", span)
+    return float(value)
+
+
+def _positive(value: Any, what: str, span: Span | None) -> float:
+    number = _number(value, what, span)
+    if number <= 0:
+        raise DyadError(f"{what} must be positive, got {value!r}", span)
+    return number
+
+
+def _non_negative(value: Any, what: str, span: Span | None) -> float:
+    number = _number(value, what, span)
+    if number < 0:
+        raise DyadError(f"{what} must not be negative, got {value!r}", span)
+    return number
+
+
+# ------------------------------------------------------------------------------- discovery
+
+def discover(lib_dirs: Sequence[str | os.PathLike] = ()) -> list[TestCase]:
+    """Every case of every component under components/ and the lib dirs. Parses only files whose
+    text mentions "tests" (a cheap filter; the parse decides)."""
+    from compiler.library import Library
+    from compiler.syntax.parser import parse_file
+
+    library = Library(lib_dirs)
+    cases: list[TestCase] = []
+    seen: set[Path] = set()
+    for root in library.roots:
+        for path in sorted(root.rglob("*.dyad")):
+            path = path.resolve()
+            if path in seen:
+                continue
+            seen.add(path)
+            try:
+                text = path.read_text(encoding="utf-8")
+            except (OSError, UnicodeDecodeError):
+                continue
+            if '"tests"' not in text:
+                continue
+            package = library.package_of_file(path) or ""
+            for definition in parse_file(str(path)).definitions:
+                if not isinstance(definition, ast.ComponentDef):
+                    continue
+                qualified = f"{package}.{definition.name}" if package else definition.name
+                dyad = ast.metadata_dict(definition.metadata).get("Dyad")
+                cases.extend(cases_from_metadata(qualified, dyad, definition.span))
+    return cases
