@@ -66,7 +66,7 @@ def prepare(flat, result) -> tuple[planar.PlanarScene, planar.FrameTracks]:
     return scene, tracks
 
 
-def animate(compilation, result, path, *, fps: int = 12, frames: int = 120, dpi: int = 80) -> dict:
+def animate(compilation, result, path, *, fps: int = 12, frames: int = 120, dpi: int = 100) -> dict:
     """Write a GIF of `result` (frames evenly spaced over its time span) to `path`, atomically.
 
     `compilation` is an api.Compilation or a FlatSystem. Returns what was drawn (part counts,

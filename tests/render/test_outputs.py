@@ -1,0 +1,101 @@
+"""The files the renderer writes: valid images, the frame count asked for, written atomically."""
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from compiler import api
+from compiler.errors import DyadError
+from compiler.render import animate, scene_outputs
+from compiler.render.atomic import write_atomically
+from compiler.render.scene_plot import plot_excavator
+from compiler.runtime import Result
+from tests.render.conftest import MODELS
+
+
+def frames_of(path) -> list[Image.Image]:
+    with Image.open(path) as gif:
+        assert gif.format == "GIF"
+        frames = []
+        for index in range(gif.n_frames):
+            gif.seek(index)
+            frames.append(gif.convert("RGB"))
+        return frames
+
+
+def test_excavator_dashboard_png_is_written(excavator_short_result, tmp_path):
+    target = tmp_path / "plots" / "excavator.png"
+    plot_excavator(excavator_short_result, target)
+    with Image.open(target) as image:
+        assert image.format == "PNG"
+        assert image.size == (1300, 1100)
+    assert os.listdir(target.parent) == ["excavator.png"]       # no temporary left behind
+
+
+def test_dashboard_names_the_missing_signals():
+    result = Result(np.array([0.0, 1.0]), ["boom_joint.phi"], np.zeros((1, 2)))
+    with pytest.raises(DyadError, match="stick_joint.phi"):
+        plot_excavator(result, "unused.png")
+
+
+def test_excavator_gif_has_the_frames_asked_for_and_the_arm_moves(excavator, excavator_short_result, tmp_path):
+    target = tmp_path / "excavator.gif"
+    drawn = animate.animate(excavator, excavator_short_result, target, fps=10, frames=6)
+    assert (drawn["links"], drawn["cylinders"], drawn["boxes"]) == (3, 3, 1)
+    frames = frames_of(target)
+    assert len(frames) == 6
+    with Image.open(target) as gif:
+        assert gif.info["duration"] == 100
+    first, last = np.asarray(frames[0], dtype=int), np.asarray(frames[-1], dtype=int)
+    assert np.mean(np.any(first != last, axis=2)) > 0.005     # more than the time label changed
+
+
+def test_soil_slab_is_painted_in_its_colour_below_the_surface(excavator, excavator_short_result, tmp_path):
+    target = tmp_path / "slab.gif"
+    animate.animate(excavator, excavator_short_result, target, frames=2)
+    pixels = np.asarray(frames_of(target)[0], dtype=int).reshape(-1, 3)
+    slab_rgb = np.array([0.47, 0.35, 0.2]) * 255
+    near = np.all(np.abs(pixels - slab_rgb) < 12, axis=1)
+    assert near.mean() > 0.05
+
+
+def test_main_animate_writes_the_pendulum_gif(tmp_path, capsys):
+    target = tmp_path / "pendulum.gif"
+    assert animate.main_animate("ComponentTests.Pendulum", [str(MODELS)], 1.0, str(target), frames=8) == 0
+    assert len(frames_of(target)) == 8
+    assert "pendulum.gif" in capsys.readouterr().out
+
+
+def test_main_animate_refuses_a_model_without_drawable_parts(tmp_path):
+    target = tmp_path / "valve.gif"
+    with pytest.raises(DyadError, match="nothing to draw"):
+        animate.main_animate("ComponentTests.ValveFlow", [str(MODELS)], 0.5, str(target), frames=3)
+    assert not target.exists()
+
+
+def test_failed_write_leaves_neither_target_nor_temporary(tmp_path):
+    def fail(temp_path):
+        with open(temp_path, "w") as out:
+            out.write("partial")
+        raise RuntimeError("disk full")
+
+    with pytest.raises(RuntimeError):
+        write_atomically(tmp_path / "x.gif", fail)
+    assert os.listdir(tmp_path) == []
+
+
+def test_scene_outputs_writes_csv_png_and_gif(excavator, monkeypatch, tmp_path, capsys):
+    monkeypatch.setattr(api, "compile", lambda spec, lib_dirs=(): excavator)
+    monkeypatch.setattr(scene_outputs, "STOP_TIME", 0.5)
+    monkeypatch.setattr(scene_outputs, "POINTS", 6)
+    monkeypatch.setattr(scene_outputs, "FRAMES", 3)
+    assert scene_outputs.main_scene_outputs(str(tmp_path)) == 0
+    assert sorted(os.listdir(tmp_path)) == ["excavator.csv", "excavator.gif", "excavator.png"]
+    header = (tmp_path / "excavator.csv").read_text().splitlines()[0].split(",")
+    assert header[0] == "time" and "soil.m_load" in header and len(header) > 600
+    assert len(frames_of(tmp_path / "excavator.gif")) == 3
+    out = capsys.readouterr().out
+    assert "payload at t = 0.5 s" in out and "max penetration soil.d" in out
