@@ -16,9 +16,17 @@ def write_atomically(path: str | os.PathLike, write: Callable[[str], None]) -> P
     os.close(handle)
     try:
         write(temp_path)
+        # mkstemp creates the file private (0600); the output gets the mode a plain open() gives.
+        os.chmod(temp_path, 0o666 & ~_current_umask())
         os.replace(temp_path, target)
     except BaseException:
         if os.path.exists(temp_path):
             os.unlink(temp_path)
         raise
     return target
+
+
+def _current_umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask

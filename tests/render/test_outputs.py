@@ -87,6 +87,15 @@ def test_failed_write_leaves_neither_target_nor_temporary(tmp_path):
     assert os.listdir(tmp_path) == []
 
 
+def test_written_file_gets_the_usual_permissions_not_the_private_temporary_ones(tmp_path):
+    mask = os.umask(0o022)
+    try:
+        target = write_atomically(tmp_path / "x.txt", lambda temp: open(temp, "w").close())
+    finally:
+        os.umask(mask)
+    assert target.stat().st_mode & 0o777 == 0o644
+
+
 def test_scene_outputs_writes_csv_png_and_gif(excavator, monkeypatch, tmp_path, capsys):
     monkeypatch.setattr(api, "compile", lambda spec, lib_dirs=(): excavator)
     monkeypatch.setattr(scene_outputs, "STOP_TIME", 0.5)
