@@ -22,8 +22,14 @@ def simulate_compiled(compilation: Compilation, stop: float, *, start: float = 0
                       atol: float = 1e-6, points: int = 501, saveat=None,
                       params: Mapping[str, float] | None = None, progress: bool | None = None) -> runtime.Result:
     try:
-        result = runtime.simulate(compilation.model, stop, start=start, rtol=rtol, atol=atol, points=points,
-                                  saveat=saveat, params=params, progress=progress)
+        if compilation.dynamic:
+            from compiler.dynamic import simulate_dynamic
+            result = simulate_dynamic(compilation.flat, compilation.analysis, compilation.variant, stop,
+                                      start=start, rtol=rtol, atol=atol, points=points, saveat=saveat,
+                                      params=params)
+        else:
+            result = runtime.simulate(compilation.model, stop, start=start, rtol=rtol, atol=atol, points=points,
+                                      saveat=saveat, params=params, progress=progress)
     except runtime.SimulationFailed as err:
         raise SimulationError(str(err), getattr(err, "time_reached", None), getattr(err, "reason", None)) from None
     except runtime.ModelInputError as err:

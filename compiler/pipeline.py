@@ -8,7 +8,8 @@ from typing import Sequence
 from compiler.flat import FlatSystem
 from compiler.lower_casadi import lower
 from compiler.runtime import CompiledModel
-from compiler.structure.reduce import StructureReport, analyse, reduce
+from compiler.dynamic import build_variant, monitored_levels
+from compiler.structure.reduce import Analysis, StructureReport, analyse, reduce
 from compiler.structure.reduced import ReducedSystem
 
 
@@ -19,6 +20,12 @@ class Compilation:
     model: CompiledModel
     report: StructureReport
     timings: dict[str, float] = field(default_factory=dict)
+    analysis: Analysis | None = None
+    variant: object | None = None        # a dynamic.Variant when the state set may have to switch
+
+    @property
+    def dynamic(self) -> bool:
+        return self.variant is not None
 
 
 def flatten_spec(spec: str, lib_dirs: Sequence[str] = ()) -> tuple[FlatSystem, dict[str, float]]:
@@ -47,9 +54,14 @@ def compile_flat(flat: FlatSystem, timings: dict[str, float] | None = None) -> C
     reduced = reduce(flat, point=start_point(flat), report=report, analysis=analysis)
     timings["structure"] = time.perf_counter() - began
     began = time.perf_counter()
-    model = lower(reduced)
+    variant = None
+    if monitored_levels(flat, analysis, report):
+        variant = build_variant(flat, analysis, None, reduced=reduced, report=report)
+        model = variant.model
+    else:
+        model = lower(reduced)
     timings["lower"] = time.perf_counter() - began
-    return Compilation(flat, reduced, model, report, timings)
+    return Compilation(flat, reduced, model, report, timings, analysis, variant)
 
 
 def compile_spec(spec: str, lib_dirs: Sequence[str] = ()) -> Compilation:

@@ -574,7 +574,11 @@ def _integrator_options(model: CompiledModel, rtol: float, atol, max_steps: int,
     # calc_ic: CasADi starts IDAS with der(x) = 0 unless told otherwise (measured: the error test
     # then collapses h at t0 on an RC step), and init_xdot cannot change between chunks, so IDAS
     # itself completes der(x) (and re-polishes z) from our consistent point at every (re)start.
+    # suppress_algebraic: the algebraic unknowns (accelerations, forces) of an index-1 DAE are
+    # functions of the states; leaving them in the error test makes IDAS chase their kinks
+    # (measured on the excavator at rtol 1e-6: 27150 steps with, 1040 without, same accuracy).
     opts = {"reltol": float(rtol), "max_num_steps": int(max_steps), "calc_ic": True,
+            "suppress_algebraic": True,
             "disable_internal_warnings": True, "show_eval_warnings": False}
     names = model.state_names + model.algebraic_names
     if isinstance(atol, Mapping) or model.nominals:

@@ -121,3 +121,27 @@ def test_derivatives_in_linear_combinations_reveal_the_true_state_count():
     y2 = (np.sin(t) + 0.5 - u) / 2
     assert np.max(np.abs(result["y1"] - result["y2"] - u)) < 1e-8
     assert np.max(np.abs(result["y2"] - y2)) < 1e-8
+
+
+def test_large_swings_switch_states_and_keep_the_constraint():
+    """Released at 2 rad the bob passes the horizontal: no static state choice is valid."""
+    from compiler.api import simulate_compiled
+    theta0 = 2.0
+    compilation = compile_flat(cartesian_pendulum(x0=math.sin(theta0), y0=-math.cos(theta0), g=G))
+    assert compilation.dynamic
+    result = simulate_compiled(compilation, 6.0, rtol=1e-12, atol=1e-12, points=601)
+    switches = result.stats["state_switches"]
+    assert len(switches) >= 8
+    assert {tuple(s["to"]) for s in switches} == {("x", "u"), ("y", "v")}
+    exact = closed_form.solution(result.time, L=1.0, theta0=theta0, g=G)
+    assert np.max(np.abs(result["x"] - exact["x"])) < 1e-8
+    assert np.max(np.abs(result["y"] - exact["y"])) < 1e-8
+    assert np.max(np.abs(result["x"] ** 2 + result["y"] ** 2 - 1.0)) < 1e-12
+
+
+def test_hinted_tree_mechanism_is_never_monitored():
+    from compiler.api import compile as compile_model
+    compilation = compile_model("MultibodyComponents.PlanarMechanics.examples.excavator.Excavator")
+    assert not compilation.dynamic
+    assert {"boom_joint.phi", "stick_joint.phi", "bucket_joint.phi",
+            "boom_joint.w", "stick_joint.w", "bucket_joint.w"} <= set(compilation.reduced.states)
