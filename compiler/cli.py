@@ -21,7 +21,7 @@ EXAMPLES = """\
 examples:
   dyadc check components
   dyadc simulate MultibodyComponents.PlanarMechanics.examples.excavator.Excavator --stop 12 --output out/excavator.csv
-  dyadc simulate tests/models/Pendulum.dyad --stop 5 -p body.m=2 --vars body.frame_a.x --plot pendulum.png
+  dyadc simulate tests/models/ComponentTests/Pendulum.dyad --stop 5 --plot pendulum.png
   dyadc inspect MultibodyComponents.PlanarMechanics.examples.excavator.Excavator
 """
 
@@ -81,6 +81,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", metavar="FILE.png", help="plot the result")
     p.add_argument("--codegen", choices=["c"], help="compile the model to C with gcc")
     p.set_defaults(run=_cmd_simulate)
+
+    p = sub.add_parser("test", help="run the golden-trajectory test cases of the components' metadata")
+    p.add_argument("model", metavar="MODEL", nargs="?", help="only this model (default: every model with tests)")
+    p.add_argument("--lib", action="append", default=[], metavar="DIR")
+    p.add_argument("--update", action="store_true", help="rewrite the golden files (never done implicitly)")
+    p.set_defaults(run=_cmd_test)
+
+    p = sub.add_parser("animate", help="simulate a planar model and write a side-view GIF")
+    _add_model(p)
+    p.add_argument("--stop", type=float, required=True, metavar="T")
+    p.add_argument("--output", metavar="FILE.gif", help="default: <Model>.gif")
+    p.set_defaults(run=_cmd_animate)
 
     p = sub.add_parser("generate", help="regenerate the committed modules in generated/")
     p.add_argument("-o", "--output-dir", default="generated", metavar="DIR")
@@ -177,6 +189,16 @@ def _cmd_simulate(args) -> int:
     if not args.output and not args.plot:
         _print_final(result, names)
     return 0
+
+
+def _cmd_test(args) -> int:
+    from compiler.golden import main_test
+    return main_test(args.model, args.lib, args.update)
+
+
+def _cmd_animate(args) -> int:
+    from compiler.render.animate import main_animate
+    return main_animate(args.model, args.lib, args.stop, args.output)
 
 
 def _cmd_generate(args) -> int:
