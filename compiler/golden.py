@@ -107,28 +107,40 @@ def update_case(compilation, case: TestCase, golden_dir: str | os.PathLike | Non
     return report
 
 
-def _targets(model_spec: str | None, lib_dirs: Sequence[str]) -> list[tuple[str, str | None]]:
-    """(model spec to compile, qualified name or None when the spec is a file) per model."""
-    if model_spec is not None:
-        return [(model_spec, None)]
-    return [(model, model) for model in dict.fromkeys(c.model for c in discover(lib_dirs))]
+def _cases_by_model(lib_dirs: Sequence[str]) -> dict[str, list[TestCase]]:
+    by_model: dict[str, list[TestCase]] = {}
+    for case in discover(lib_dirs):
+        by_model.setdefault(case.model, []).append(case)
+    return by_model
 
 
 def run_tests(model_spec: str | None, lib_dirs: Sequence[str] = (), update: bool = False,
               golden_dir: str | os.PathLike | None = None, out=None) -> list[CaseReport]:
     """Run (or with `update`, regenerate) every case of one model, or of every model with cases.
-    Compile errors become failed reports; a model given explicitly without cases is an error."""
+    A model named explicitly that fails to compile or declares no cases is an error; during
+    discovery a model that fails to compile fails its cases and the others still run."""
     from compiler import api
 
     out = out or sys.stdout
     reports: list[CaseReport] = []
-    for spec, qualified in _targets(model_spec, lib_dirs):
-        compilation = api.compile(spec, lib_dirs)
-        model = qualified or _qualified_name(spec, lib_dirs)
+    if model_spec is not None:
+        compilation = api.compile(model_spec, lib_dirs)
+        model = _qualified_name(model_spec, lib_dirs)
         cases = cases_of_compilation(model, compilation)
-        if not cases and model_spec is not None:
+        if not cases:
             raise DyadError(f'{model} declares no test cases (metadata {{"Dyad": {{"tests": ...}}}})',
                             parse_span_text(compilation.flat.metadata.get("model_span")))
+        targets = [(model_spec, compilation, cases)]
+    else:
+        targets = []
+        for model, cases in _cases_by_model(lib_dirs).items():
+            try:
+                targets.append((model, api.compile(model, lib_dirs), cases))
+            except DyadError as err:
+                for case in cases:
+                    reports.append(CaseReport(case, error=f"cannot compile {model}: {err.format()}"))
+                    print(reports[-1].format(), file=out, flush=True)
+    for spec, compilation, cases in targets:
         for case in cases:
             if update:
                 report = update_case(compilation, case, golden_dir)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import shutil
 import os
 from pathlib import Path
 
@@ -194,3 +195,26 @@ def test_golden_files_are_written_atomically_with_17_digits(tmp_path):
     write_golden(path, np.array([0.0, 0.1]), {"a": np.array([1 / 3, 2 / 3])})
     assert Path(path).read_text().splitlines()[1] == "0,0.33333333333333331"
     assert [p.name for p in tmp_path.iterdir()] == ["g.csv"]       # no temporary left behind
+
+
+def test_discovery_mode_reports_a_model_that_does_not_compile_and_runs_the_rest(tmp_path, monkeypatch):
+    library = tmp_path / "lib"
+    library.mkdir()
+    shutil.copy(DECAY, library / "Decay.dyad")
+    (library / "Broken.dyad").write_text(
+        'component Broken\n  part = NoSuchThing()\nrelations\n'
+        'metadata {"Dyad": {"tests": {"c": {"stop": 1, "atol": 1, "expect": {"signals": ["x"]}}}}}\nend\n')
+    only_this_library = [c for c in discover([str(library)]) if c.model in ("Broken", "Decay")]
+    monkeypatch.setattr(golden, "discover", lambda lib_dirs: only_this_library)
+    reports = golden.run_tests(None, [str(library)], update=True, golden_dir=tmp_path)
+    by_model = {r.case.model: r for r in reports}
+    assert not by_model["Broken"].passed and "Broken.dyad:2:3" in by_model["Broken"].error
+    assert by_model["Decay"].passed and (tmp_path / "Decay.decay.csv").is_file()
+
+
+def test_a_nominal_for_an_unknown_that_does_not_exist_is_a_located_error(decay):
+    case, compilation, directory = decay
+    wrong = type(case)(**{**case.__dict__, "nominal": {"zz": 2.0}})
+    report = golden.update_case(compilation, wrong, directory)
+    assert not report.passed and "nominal given for `zz`" in report.error
+    assert "Decay.dyad:16:7" in report.error
