@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+import os
 from pathlib import Path
 
 # Sources parsed from memory (tests, stdin) have no file to re-read for the caret line.
@@ -24,6 +25,17 @@ def source_line(filename: str, line: int) -> str | None:
     if 1 <= line <= len(lines):
         return lines[line - 1]
     return None
+
+
+def display_path(path: str) -> str:
+    """A path as a user wants to read it: relative to the working directory when inside it."""
+    if path.startswith("<") or not os.path.isabs(path):
+        return path
+    try:
+        relative = os.path.relpath(path)
+    except ValueError:
+        return path
+    return path if relative.startswith("..") else relative
 
 
 @dataclass(frozen=True)

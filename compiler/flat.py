@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 
 import sympy
 
-from compiler.errors import Span
+from compiler.errors import Span, display_path
 
 TIME = sympy.Symbol("time")
 
@@ -44,8 +44,11 @@ class Origin:
     span: Span | None = None
 
     def describe(self) -> str:
+        """For labels that outlive this machine (generated modules): no absolute paths."""
         where = self.path or "<model>"
-        return f"{where} ({self.span})" if self.span else where
+        if not self.span:
+            return where
+        return f"{where} ({display_path(self.span.file)}:{self.span.line}:{self.span.column})"
 
 
 @dataclass
