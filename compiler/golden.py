@@ -15,7 +15,7 @@ import os
 import sys
 import time
 from pathlib import Path
-from typing import Mapping, Sequence
+from typing import Sequence
 
 from compiler.errors import DyadError
 from compiler.golden_cases import TestCase, cases_from_metadata, discover, parse_span_text
