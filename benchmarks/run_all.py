@@ -1,0 +1,92 @@
+"""`make bench`: work-precision diagrams and compile-time scaling -> docs/benchmarks.md + PNGs.
+
+    .venv/bin/python benchmarks/run_all.py            # full run (target < 15 min on 2 cores)
+    .venv/bin/python benchmarks/run_all.py --quick    # fewer tolerances, smaller budgets (~3 min)
+    .venv/bin/python benchmarks/run_all.py --only pendulum,andrews --no-compile --out /tmp/bench
+
+Everything is measured in this one process except the compile-time stages, which run in fresh
+processes so that imports and parser construction are included.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+from suite import compile_time, machine, plots, report  # noqa: E402
+from suite.problems import all_problems  # noqa: E402
+from suite.timing import Budget  # noqa: E402
+from suite.workprecision import FULL_TOLERANCES, QUICK_TOLERANCES, run_problem  # noqa: E402
+
+CHAIN_SIZES = [1, 2, 4, 8, 16, 32, 64, 128, 256]
+
+
+def settings_for(quick: bool) -> dict:
+    if quick:
+        return {"quick": True, "tolerances": QUICK_TOLERANCES, "repeats": 3, "repeat_window": 3.0,
+                "budget": 10.0, "excavator_budget": 20.0, "excavator_compiles": 1, "chain_budget": 20.0}
+    return {"quick": False, "tolerances": FULL_TOLERANCES, "repeats": 5, "repeat_window": 8.0,
+            "budget": 25.0, "excavator_budget": 60.0, "excavator_compiles": 3, "chain_budget": 200.0}
+
+
+def log(message: str) -> None:
+    print(message, flush=True)
+
+
+def main(argv: list[str]) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="fewer tolerances, smaller budgets")
+    parser.add_argument("--only", default="", help="comma-separated problems (excavator, pendulum, andrews, robertson)")
+    parser.add_argument("--no-compile", action="store_true", help="skip the compile-time measurements")
+    parser.add_argument("--out", default=str(ROOT / "docs"), help="folder for benchmarks.md (PNGs go to <out>/benchmarks/)")
+    args = parser.parse_args(argv)
+    os.environ.setdefault("OMP_NUM_THREADS", "1")      # scipy/numpy threads would steal the other core
+    began = time.perf_counter()
+    settings = settings_for(args.quick)
+    out = Path(args.out)
+    png_dir = out / "benchmarks"
+    png_dir.mkdir(parents=True, exist_ok=True)
+    info = machine.describe()
+    log(f"machine: {info['CPU']}, {info['cores (nproc)']} cores, load {info['load average at start (1/5/15 min)']}")
+
+    wanted = {w for w in args.only.split(",") if w}
+    problems = [p for p in all_problems(check_reference=not args.quick) if not wanted or p.key in wanted]
+    runs, pngs = [], {}
+    for problem in problems:
+        log(f"== {problem.title}")
+        if problem.key == "excavator":
+            problem.reference                                         # noqa: B018 - computed before the timings
+            log(f"  reference computed in {problem.reference_info['seconds']:.1f} s")
+        budget_s = settings["excavator_budget"] if problem.key == "excavator" else settings["budget"]
+        budget = Budget(budget_s, settings["repeats"], settings["repeat_window"])
+        run = run_problem(problem, settings["tolerances"], budget, log)
+        runs.append(run)
+        pngs[problem.key] = f"benchmarks/work_precision_{problem.key}.png"
+        plots.work_precision_png(run, out / pngs[problem.key])
+        log(f"  {time.perf_counter() - began:.0f} s elapsed")
+
+    compile_data: dict = {}
+    if not args.no_compile:
+        log("== compile time")
+        compile_data["excavator"] = compile_time.excavator_stages(settings["excavator_compiles"], log)
+        compile_data["chain"] = compile_time.chain_scaling(CHAIN_SIZES, settings["chain_budget"], log)
+        chain = compile_data["chain"]
+        if chain["rows"]:
+            pngs["compile"] = "benchmarks/compile_time_chain.png"
+            plots.compile_scaling_png(chain["rows"], compile_time.STAGES, chain["fit"], out / pngs["compile"])
+
+    elapsed = time.perf_counter() - began
+    (out / "benchmarks.md").write_text(report.render(info, runs, compile_data, pngs, settings, elapsed),
+                                       encoding="utf-8")
+    log(f"wrote {out / 'benchmarks.md'} in {elapsed / 60:.1f} min")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv[1:]))

@@ -1,0 +1,88 @@
+"""The contenders: dyadc on CasADi's SX virtual machine, dyadc with generated C, scipy solve_ivp.
+
+`solve(rtol, atol) -> (seconds, signals)` on the problem's grid. dyadc's seconds are the wall
+time of api.simulate_compiled (consistent initialization, IDAS, output evaluation); scipy's are the
+contender's own wall_time_s (solve_ivp plus output evaluation). Compilation is not included:
+it is measured separately (compile-time section).
+"""
+from __future__ import annotations
+
+import time
+import warnings
+
+import numpy as np
+
+from compiler import api, ccodegen
+from compiler.errors import DyadError
+from suite.problems import Problem, contender_module
+
+
+class Failed(Exception):
+    """The contender could not deliver a solution at this tolerance."""
+
+
+class DyadcContender:
+    def __init__(self, problem: Problem, codegen: str):
+        self.problem = problem
+        self.codegen = codegen
+        self.name = "dyadc (C)" if codegen == "c" else "dyadc (VM)"
+        began = time.perf_counter()
+        self.compilation = api.compile(problem.dyadc_spec)
+        self.compile_seconds = time.perf_counter() - began
+        self.build_seconds = 0.0
+        if codegen == "c":
+            if getattr(self.compilation, "dynamic", False):
+                raise Failed("the model needs dynamic state selection, which runs on the VM only")
+            began = time.perf_counter()
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always", ccodegen.CodegenWarning)
+                ccodegen.compile_c(self.compilation.model)
+            self.build_seconds = time.perf_counter() - began
+            if self.compilation.model.metadata.get("codegen") != "c":
+                raise Failed("; ".join(str(w.message) for w in caught) or "C code generation unavailable")
+
+    def solve(self, rtol: float, atol: float):
+        grid = self.problem.grid
+        began = time.perf_counter()
+        try:
+            # the API's path: runtime.simulate, or segmented IDAS for a dynamic state selection
+            result = api.simulate_compiled(self.compilation, self.problem.stop, rtol=rtol, atol=atol,
+                                           saveat=grid, progress=False)
+        except DyadError as err:
+            raise Failed(str(err).splitlines()[0]) from None
+        seconds = time.perf_counter() - began
+        if len(result.time) != len(grid) or not np.allclose(result.time, grid, rtol=1e-12, atol=0):
+            raise Failed("output grid differs from the requested one")
+        return seconds, self.problem.dyadc_signals(result)
+
+
+class ScipyContender:
+    def __init__(self, problem: Problem, method: str):
+        self.problem = problem
+        self.method = method
+        self.name = f"scipy {method}"
+        self.module = contender_module(problem.scipy_module)
+
+    def solve(self, rtol: float, atol: float):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            try:
+                output = self.module.run(self.method, rtol, atol, **self.problem.scipy_options)
+            except (RuntimeError, ValueError, np.linalg.LinAlgError) as err:
+                raise Failed(str(err).splitlines()[0]) from None
+        return output["wall_time_s"], self.problem.scipy_signals(output)
+
+
+SCIPY_METHODS = ("Radau", "BDF", "LSODA")
+
+
+def contenders_for(problem: Problem) -> tuple[list, dict[str, str]]:
+    """The contenders that could be set up, and why the others could not."""
+    made, unavailable = [], {}
+    for codegen in ("vm", "c"):
+        try:
+            made.append(DyadcContender(problem, codegen))
+        except (Failed, DyadError) as err:
+            unavailable["dyadc (C)" if codegen == "c" else "dyadc (VM)"] = str(err)
+    made.extend(ScipyContender(problem, method) for method in SCIPY_METHODS)
+    return made, unavailable
