@@ -11,7 +11,7 @@ follows the same path, the depth d and the swept payload stay nearly the same an
 scale with the force law. The limit that matters is the stick cylinder pulling the bucket through
 the soil: its rod side at supply pressure gives at most P_SUPPLY * AREA_B = 50 kN. The default
 scene peaks at 38 kN there, so a factor of about 1.3 exhausts the margin: 1.25 is followed,
-ten times is not (the machine stalls; see the last two tests).
+ten times is not: the machine stalls, and then the run leaves the model's domain (last tests).
 """
 from __future__ import annotations
 
@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 
 from compiler import runtime
+from tests.hard.conftest import long_running
 from tests.hard.excavator_signals import (AREA_A, AREA_B, CYLINDER_FORCES, P_SUPPLY, SHARP_CONTACT, SOIL_FORCES,
                                           peak, stiffer_soil)
 
@@ -99,18 +100,44 @@ def test_ten_times_stiffer_soil_stalls_the_stick_at_its_pulling_limit(excavator_
     assert run["soil.m_load"][-1] < 0.5 * excavator_default["soil.m_load"][index]
 
 
-def test_ten_times_stiffer_soil_run_stops_after_the_stick_piston_overruns_its_stroke(excavator,
-                                                                                       ten_times_stiffer_until_stop):
+def test_ten_times_stiffer_soil_drives_the_stick_piston_past_its_stroke(ten_times_stiffer_until_stop):
     # No anti-windup and no end stops (scene spec 2.8, 2.12): when the stalled bucket finally breaks
     # free, the wound-up loops drive the stick piston past its retracted end s = 0, emptying the
-    # cap chamber V_a = V_dead + AREA_A s, which vanishes at s = -V_dead / AREA_A = -83 mm. The
-    # model is then outside its domain (V_a / beta * der(p_a) degenerates) and IDAS stops.
+    # cap chamber V_a = V_dead + AREA_A s, which vanishes at s = -V_dead / AREA_A = -83 mm.
     run = ten_times_stiffer_until_stop
     assert run["stick_cyl.cylinder.s"][-1] < -0.05                # measured -0.057 m at 7.4 s
     assert run["stick_cyl.cylinder.V_a"][-1] < 0.5 * V_DEAD
     assert run["stick_cyl.cylinder.V_a"][-1] == pytest.approx(V_DEAD + AREA_A * run["stick_cyl.cylinder.s"][-1])
-    with pytest.raises(runtime.SimulationFailed) as failure:
-        runtime.simulate(excavator.model, 12.0, points=1201, params={**SHARP_CONTACT, **stiffer_soil(10)})
-    # Measured: t = 7.4702 s, IDA_TOO_MUCH_WORK (100000 steps before the next output time).
-    assert 7.4 < failure.value.time_reached < 7.6
-    assert "t = 7." in str(failure.value)
+
+
+def assert_stays_in_domain_or_stops(excavator, stop):
+    """The requirement: a run either stays where the model means something (both chamber volumes
+    positive) or stops with an error; it must not carry on through an empty chamber."""
+    try:
+        run = runtime.simulate(excavator.model, stop, points=int(stop * 100) + 1,
+                               params={**SHARP_CONTACT, **stiffer_soil(10)})
+    except runtime.SimulationFailed as failure:
+        assert failure.time_reached is not None and failure.time_reached < stop
+        return
+    for axis in ("boom", "stick", "bucket"):
+        for side in ("V_a", "V_b"):
+            assert run[f"{axis}_cyl.cylinder.{side}"].min() > 0, (axis, side)
+
+
+SILENT_EMPTY_CHAMBER = (
+    "the stick cap chamber volume V_a crosses 0 at t = 7.48 s and the run carries on: to 8 s in 0.2 s "
+    "with V_a = -2.2e-5 m^3 and p_a down to -2.1e6 Pa; to 12 s in ~90 s (3.8 M IDAS steps) with "
+    "p_a = -1.2e15 Pa and a stick force of -3.7e12 N. Nothing in the model states V_a > 0 (a `min` "
+    "attribute checked by the runtime would). Before IDAS suppress_algebraic (d73a1b8) the run "
+    "stopped at t = 7.47 s with IDA_TOO_MUCH_WORK.")
+
+
+@pytest.mark.xfail(strict=False, reason=SILENT_EMPTY_CHAMBER)
+def test_ten_times_stiffer_soil_does_not_run_on_with_an_empty_chamber(excavator):
+    assert_stays_in_domain_or_stops(excavator, 8.0)
+
+
+@long_running
+@pytest.mark.xfail(strict=False, reason=SILENT_EMPTY_CHAMBER)
+def test_ten_times_stiffer_soil_whole_scene_does_not_run_on_with_an_empty_chamber(excavator):
+    assert_stays_in_domain_or_stops(excavator, 12.0)
