@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-pytest.importorskip("compiler.api")
+
 from compiler.api import simulate  # noqa: E402
 
 MODELS = Path(__file__).resolve().parent.parent / "models"

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-pytest.importorskip("compiler.api")
+
 from compiler.api import flatten, simulate  # noqa: E402
 
 EXCAVATOR = "MultibodyComponents.PlanarMechanics.examples.excavator.Excavator"

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-parser = pytest.importorskip("compiler.syntax.parser")
+from compiler.syntax import parser
 from compiler.syntax import ast  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -45,4 +45,5 @@ def test_the_excavator_declares_the_dig_cycle_test_case():
     signals = case["expect"]["signals"]
     assert len(signals) == len(set(signals)) == 64
     assert set(case["atol"]) == set(signals)
-    assert case["expect"]["final"] == {}
+    assert set(case["expect"]["final"]) <= set(signals)
+    assert case["expect"]["final"]["soil.m_load"] > 100
