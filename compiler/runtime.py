@@ -450,6 +450,10 @@ def _atomic_write(path: str | os.PathLike, write: Callable, binary: bool = False
             write(out)
             out.flush()
             os.fsync(out.fileno())
+        # mkstemp makes the file private (0600); give it the mode a plain open() would
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)
         os.replace(tmp, path)
     except BaseException:
         try:
