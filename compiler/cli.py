@@ -161,8 +161,11 @@ def _cmd_simulate(args) -> int:
     params = dict(_parse_assignment(text) for text in args.params)
     compilation = compile_spec(args.model, args.lib)
     if args.codegen == "c":
+        import time
         from compiler.ccodegen import use_c_code
+        began = time.perf_counter()
         compilation.model = use_c_code(compilation.model)
+        compilation.timings["codegen c"] = time.perf_counter() - began
     saveat = None
     if args.saveat is not None:
         if args.saveat <= 0:
