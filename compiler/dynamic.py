@@ -59,18 +59,37 @@ def monitored_levels(flat: FlatSystem, analysis: Analysis, report: StructureRepo
     for level, (rows, candidates, chosen) in enumerate(report.levels):
         if len(candidates) <= len(rows):
             continue
-        # hinted (priority > 0) dummies are stand-ins for hinted states (der(der(phi)) beside der(w)):
-        # they never take part in a switch
-        varying = [v for v in chosen if priority(v) <= 0 and
+        kept = [v for v in candidates if v not in chosen]
+        stand_ins = _stand_ins(system, kept)
+        varying = [v for v in chosen if v not in stand_ins and
                    any(not sympy.diff(system.equations[e], system.symbols[v]).free_symbols <= constant
                        for e in rows)]
         if not varying:
             continue                                   # a constant pivot block is valid everywhere
-        kept = [v for v in candidates if v not in chosen]
         if min(priority(v) for v in kept) > max(priority(v) for v in varying):
             continue                                   # only a hinted state could take over: keep the hint
         levels.append((level, rows, candidates, chosen))
     return levels
+
+
+def _stand_ins(system, kept: list[int]) -> set[int]:
+    """Dummies that only stand in for a kept state: der(der(phi)) when `w = der(phi)` holds and
+    der(w) is kept. Exchanging the two changes nothing, so they never call for a switch."""
+    kept_set = set(kept)
+    diff_to_var = system.diff_to_var()
+    stand_ins = set()
+    for residual in system.equations:
+        symbols = [s for s in residual.free_symbols if s in system.index_of]
+        if len(symbols) != 2:
+            continue
+        a, b = (system.index_of[s] for s in symbols)
+        for w, dphi in ((a, b), (b, a)):
+            if diff_to_var[dphi] >= 0 and abs(sympy.diff(residual, system.symbols[w])) == 1 \
+                    and abs(sympy.diff(residual, system.symbols[dphi])) == 1:
+                dw, ddphi = system.var_to_diff[w], system.var_to_diff[dphi]
+                if dw in kept_set and ddphi >= 0:
+                    stand_ins.add(ddphi)
+    return stand_ins
 
 
 def _priority_function(analysis: Analysis):
