@@ -238,6 +238,7 @@ def simulate_dynamic(flat: FlatSystem, analysis: Analysis, first: Variant, stop:
         last_outputs = outs[:, switch_at - 1]
         i = i + switch_at
     stats["run_time"] = _time.perf_counter() - began
+    runtime.check_bounds(first.model, grid, public, values)
     for work in workspaces.values():
         for key in ("steps", "residual_evaluations", "jacobian_evaluations"):
             stats[key] += work.counters.get(key, 0)

@@ -291,7 +291,10 @@ def lower(reduced: ReducedSystem) -> CompiledModel:
         nominals={k: float(v) for k, v in sorted(reduced.metadata.get("nominals", {}).items())},
         metadata={"statistics": _plain(reduced.statistics),
                   "assignments": len(reduced.assignments),
-                  "observables": len(reduced.observables)},
+                  "observables": len(reduced.observables),
+                  "bounds": {name: dict(sorted(b.items()))
+                             for name, b in sorted(reduced.metadata.get("bounds", {}).items())
+                             if name in set(output_names)}},
     )
 
 

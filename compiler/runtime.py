@@ -673,8 +673,36 @@ def simulate(model: CompiledModel, stop: float, *, start: float = 0.0, rtol: flo
 
     began = _time.perf_counter()
     values = _evaluate_outputs(model, xs, zs, p, grid)
+    check_bounds(model, grid, model.output_names, values)
     stats["output_time"] = _time.perf_counter() - began
     return Result(grid, model.output_names, values, stats, model.name)
+
+
+def check_bounds(model: CompiledModel, grid: np.ndarray, names: Sequence[str], values: np.ndarray) -> None:
+    """A variable outside its declared min/max (a chamber volume below zero, say) means the model
+    has left the domain where its equations mean anything: stop instead of returning nonsense."""
+    bounds = model.metadata.get("bounds") or {}
+    if not bounds:
+        return
+    index = {n: i for i, n in enumerate(names)}
+    first = None
+    for name, limits in bounds.items():
+        if name not in index:
+            continue
+        row = values[index[name]]
+        for key, bad in (("min", lambda v, b: v < b), ("max", lambda v, b: v > b)):
+            if key not in limits:
+                continue
+            bound = float(limits[key])
+            slack = 1e-12 + 1e-9 * abs(bound)
+            hits = np.nonzero(bad(row, bound - slack if key == "min" else bound + slack))[0]
+            if hits.size and (first is None or hits[0] < first[0]):
+                first = (int(hits[0]), name, key, bound, float(row[hits[0]]))
+    if first is not None:
+        k, name, key, bound, value = first
+        reason = f"{name} = {value:.6g} is outside its declared {key} = {bound:g}"
+        raise SimulationFailed(f"simulation of {model.name} left the model's domain at t = {grid[k]:.10g}: "
+                               f"{reason}", float(grid[k]), reason)
 
 
 def polish_algebraics(model: CompiledModel, xs: np.ndarray, zs: np.ndarray, p: np.ndarray,
