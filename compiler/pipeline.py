@@ -51,6 +51,7 @@ def compile_flat(flat: FlatSystem, timings: dict[str, float] | None = None) -> C
     report = StructureReport()
     began = time.perf_counter()
     analysis = analyse(flat)
+    report.timings["alias+rank+index"] = time.perf_counter() - began
     reduced = reduce(flat, point=start_point(flat), report=report, analysis=analysis)
     timings["structure"] = time.perf_counter() - began
     began = time.perf_counter()

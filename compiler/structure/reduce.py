@@ -78,10 +78,10 @@ def reduce(flat: FlatSystem, point: dict[str, float] | None = None,
            report: StructureReport | None = None, analysis: Analysis | None = None) -> ReducedSystem:
     """`point` (values of unknowns and parameters) enables numeric pivoting of dummy derivatives."""
     report = report if report is not None else StructureReport()
-    clock = _time.perf_counter()
     if analysis is None:
+        clock = _time.perf_counter()
         analysis = analyse(flat)
-    report.timings["alias+index"] = _time.perf_counter() - clock
+        report.timings["alias+rank+index"] = _time.perf_counter() - clock
     alias, system = analysis.alias, analysis.system
     report.counts.update({
         "flat variables": len(flat.variables), "flat equations": len(flat.equations),
