@@ -32,7 +32,7 @@ def settings_for(quick: bool) -> dict:
         return {"quick": True, "tolerances": QUICK_TOLERANCES, "repeats": 3, "repeat_window": 3.0,
                 "budget": 10.0, "excavator_budget": 20.0, "excavator_compiles": 1, "chain_budget": 20.0}
     return {"quick": False, "tolerances": FULL_TOLERANCES, "repeats": 5, "repeat_window": 8.0,
-            "budget": 25.0, "excavator_budget": 60.0, "excavator_compiles": 3, "chain_budget": 200.0}
+            "budget": 25.0, "excavator_budget": 60.0, "excavator_compiles": 3, "chain_budget": 340.0}
 
 
 def log(message: str) -> None:

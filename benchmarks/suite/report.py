@@ -39,7 +39,10 @@ def _headline(runs, compile_data) -> list[str]:
     if chain.get("fit"):
         lines.append(f"- **Compile-time growth** for an N-link chain: total ~ N^{chain['fit']['total']:.2f} "
                      f"(log-log fit over N >= {chain['fit_from']}); the largest measured chain "
-                     f"(N = {chain['rows'][-1]['n']}) took {chain['rows'][-1]['total']:.1f} s.")
+                     f"(N = {chain['rows'][-1]['n']}) took {chain['rows'][-1]['total']:.1f} s"
+                     + (f"; between N = {chain['rows'][-2]['n']} and {chain['rows'][-1]['n']} the total grows as "
+                        f"N^{math.log(chain['rows'][-1]['total'] / chain['rows'][-2]['total']) / math.log(chain['rows'][-1]['n'] / chain['rows'][-2]['n']):.2f}"
+                        if len(chain["rows"]) >= 2 else "") + ".")
     return lines + [""]
 
 
@@ -92,6 +95,13 @@ def _problem_section(run, png: str) -> list[str]:
             lines.append("- Reference self-check, Radau vs LSODA both at 1e-12 (same error measure): "
                          + ", ".join(f"{g} {check[f'{g} max']:.1e}" for g in EXCAVATOR_GROUPS)
                          + ", i.e. the reference is good to about that level; errors below it are not resolved.")
+        for curve in run.curves:
+            if curve.contender.startswith("dyadc") and curve.ok():
+                tight = min(curve.ok(), key=lambda pt: pt.tolerance)
+                lines.append(f"- Agreement of {curve.contender} at its tightest tolerance (rtol {tight.tolerance:.0e}) "
+                             "with the reference, max over the grid / at t = 12 s: "
+                             + ", ".join(f"{g} {tight.errors[f'{g} max']:.1e} / {tight.errors[f'{g} final']:.1e}"
+                                         for g in EXCAVATOR_GROUPS) + ".")
         lines.append("- Groups: " + "; ".join(f"{g}: {', '.join(names)}" for g, names in EXCAVATOR_GROUPS.items())
                      + ". Each group's error is divided by the largest |value| of the group's reference signals.")
         lines.append("- dyadc: the scene's Dyad model with IDAS (absolute tolerances scaled per unknown by the "
@@ -118,7 +128,8 @@ def _compile_section(compile_data: dict, png: str | None) -> list[str]:
                   "| import | parse | flatten | structure | lower | first simulate (12 s, rtol 1e-6) | C build (uncached) | whole process |",
                   "|---|---|---|---|---|---|---|---|",
                   "| " + " | ".join(_s(m.get(k)) for k in ["import", *STAGES, "c_build", "process"]) + " |", "",
-                  "parse includes building the LALR parser in the cold process; flatten excludes parsing.", ""]
+                  "parse includes loading (or building) the LALR parser in the cold process; flatten excludes parsing; "
+                  "import is the compiler's own imports (sympy, casadi, lark, numpy).", ""]
         for problem in exc["problems"]:
             lines.append(f"- a run failed: `{problem}`")
     chain = compile_data.get("chain")
@@ -136,6 +147,12 @@ def _compile_section(compile_data: dict, png: str | None) -> list[str]:
         if chain["fit"]:
             lines += ["", f"Growth exponents (least-squares slope of log time against log N, N >= {chain['fit_from']}): "
                       + ", ".join(f"{k} {v:.2f}" for k, v in chain["fit"].items()) + "."]
+            if len(chain["rows"]) >= 2:
+                a, b = chain["rows"][-2], chain["rows"][-1]
+                local = {s: math.log(b[s] / a[s]) / math.log(b["n"] / a["n"])
+                         for s in STAGES + ["total"] if a[s] > 0 and b[s] > 0}
+                lines.append(f"Local exponents between the two largest chains (N = {a['n']} -> {b['n']}), a better "
+                             "guide to larger models: " + ", ".join(f"{k} {v:.2f}" for k, v in local.items()) + ".")
         if png:
             lines += ["", f"![compile time vs N]({png})"]
     return lines + [""]
