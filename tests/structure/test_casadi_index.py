@@ -83,11 +83,6 @@ def test_dyadc_and_casadi_agree_on_the_index_of_mechanisms(name):
     assert compilation.report.structural_index == casadi_structural_index(compilation.flat) == 3
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "compiler bug: dyadc reports index 2 for these index-1 circuits (derivatives only in capacitor "
-    "currents, every unknown differentiated after one differentiation of the hidden constraints); "
-    "structural_index adds 1 even when no purely algebraic unknown remains. CasADi says 1, as does "
-    "the Test Set for the transistor amplifier."))
 @pytest.mark.parametrize("name", ["CapacitorMirror", "TransistorAmplifier"])
 def test_dyadc_and_casadi_agree_on_the_index_of_circuits(name):
     compilation = compiled(name)

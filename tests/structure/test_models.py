@@ -330,12 +330,6 @@ def test_transistor_amplifier_matches_the_test_set_reference(transistor_amplifie
     assert np.max(np.abs(final - TRANSAMP_AT_0_2)) < 5e-7
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "compiler bug: structural_index (compiler/structure/graph/pantelides.py) returns deepest + 1 "
-    "whenever an equation was differentiated; it should add 1 only if some unknown of the reduced "
-    "system stays purely algebraic. Here every unknown gets a derivative after one differentiation, "
-    "so the index is 1 (the Test Set's value; CasADi's dae_reduce_index agrees) but dyadc reports 2. "
-    "Same for CapacitorMirror."))
 def test_transistor_amplifier_is_index_1(transistor_amplifier):
     compilation, _ = transistor_amplifier
     assert compilation.report.structural_index == 1

@@ -195,20 +195,18 @@ def pantelides(n_eqs: int, n_vars: int, incidence: list[list[int]], var_to_diff:
 def structural_index(result: PantelidesResult) -> int:
     """The differentiation index implied by the Pantelides result.
 
-    Convention: if any equation was differentiated, index = (max number of times one equation
-    was differentiated) + 1 — the last differentiation step yields an ODE for the remaining
-    algebraic unknowns. Otherwise index 1 if some matched variable is algebraic (neither a
-    derivative nor differentiated), else 0 (an explicit ODE). The Cartesian pendulum is 3.
+    index = (max number of times one equation was differentiated) + 1 if some matched unknown of
+    the final system stays purely algebraic (neither a derivative nor differentiated), else + 0:
+    the last differentiation then already yields an ODE for every unknown. The Cartesian pendulum
+    is 3 (the rod tension stays algebraic); a circuit whose hidden constraint, differentiated once,
+    gives every voltage a derivative is 1 (the Test Set's transistor amplifier); an explicit ODE 0.
     """
     counts = result.differentiation_counts()
     deepest = max(counts, default=0)
-    if deepest > 0:
-        return deepest + 1
     is_derivative = [False] * result.n_vars
     for derivative in result.var_to_diff:
         if derivative != UNMATCHED:
             is_derivative[derivative] = True
-    for var in result.eq_to_var:
-        if var != UNMATCHED and not is_derivative[var] and result.var_to_diff[var] == UNMATCHED:
-            return 1
-    return 0
+    algebraic_left = any(var != UNMATCHED and not is_derivative[var] and result.var_to_diff[var] == UNMATCHED
+                         for var in result.eq_to_var)
+    return deepest + (1 if algebraic_left else 0)
