@@ -43,6 +43,13 @@ class LinearSolver:
     def solvable(self, e: int, v: int) -> bool:
         return self.solution(e, v) is not None
 
+    def safely_solvable(self, e: int, v: int) -> bool:
+        """Solvable with a coefficient free of unknowns: the division can never be by zero."""
+        if not self.solvable(e, v):
+            return False
+        coefficient = sympy.diff(self.system.equations[e], self.system.symbols[v])
+        return not any(s in self.system.index_of for s in coefficient.free_symbols)
+
     def _solve(self, e: int, v: int) -> sympy.Expr | None:
         residual = self.system.equations[e]
         sym = self.system.symbols[v]
@@ -73,8 +80,10 @@ def causalize(system: IndexedSystem, is_known: list[bool]) -> Causalization:
         if len(eqs) == 1 and solver.solvable(eqs[0], block_vars[0]):
             result.assignments.append((eqs[0], block_vars[0], solver.solution(eqs[0], block_vars[0])))
             continue
+        # Inside a loop, a pair whose coefficient depends on unknowns (a lever arm that passes zero)
+        # would divide by zero where the loop itself is regular: those unknowns are torn instead.
         tearing = tear_block(list(eqs), list(local_vars), incidence,
-                             lambda e, lv: solver.solvable(e, unknowns[lv]))
+                             lambda e, lv: solver.safely_solvable(e, unknowns[lv]))
         for e, lv in tearing.causal:
             v = unknowns[lv]
             result.assignments.append((e, v, solver.solution(e, v)))

@@ -22,12 +22,13 @@ THETA0, W0 = 1e-4, 8.0
 R, L = reference.PARAMS["r"], reference.PARAMS["l"]
 
 
-def check_against_reference(res):
+def check_against_reference(res, scale=1.0):
+    """Bounds for a run at rtol 1e-10; `scale` widens them for looser tolerances (error ~ rtol)."""
     exact = reference.solve(res.time, THETA0, W0)
-    np.testing.assert_allclose(res["crank_joint.phi"], exact["theta"], atol=1e-6)
-    np.testing.assert_allclose(res["crank_joint.w"], exact["w"], atol=1e-5)
-    np.testing.assert_allclose(res["slider.r[1]"], exact["x_slider"], atol=1e-7)
-    np.testing.assert_allclose(res["rod.frame_a.phi"], exact["psi"], atol=1e-6)
+    np.testing.assert_allclose(res["crank_joint.phi"], exact["theta"], atol=1e-6 * scale)
+    np.testing.assert_allclose(res["crank_joint.w"], exact["w"], atol=1e-5 * scale)
+    np.testing.assert_allclose(res["slider.r[1]"], exact["x_slider"], atol=1e-7 * scale)
+    np.testing.assert_allclose(res["rod.frame_a.phi"], exact["psi"], atol=1e-6 * scale)
 
 
 @pytest.fixture(scope="module")
@@ -80,5 +81,5 @@ def test_equal_priorities_run_correctly_or_stop_naming_the_constraint(equal_prio
         assert err.time_reached is not None and "at t = " in message
         assert any(word in message for word in ("constraint", "slider_joint", "rod_joint", "crank_joint")), message
         return
-    check_against_reference(res)
+    check_against_reference(res, scale=rtol / 1e-10)
     assert res.stats["state_switches"]

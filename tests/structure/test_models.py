@@ -273,14 +273,6 @@ def test_four_bar_holds_the_loop_and_matches_the_one_coordinate_model(four_bar):
     assert np.max(np.abs(res["rocker.frame_b.y"])) < 1e-12
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "compiler bug: with the crank exactly horizontal (theta0 = 0, a regular configuration of the "
-    "crank-rocker) simulate_compiled fails at t = 0 ('the state selection is singular here'): IDAS "
-    "calc_ic line search fails because causalization made the explicit assignment "
-    "crank.frame_b.fx = -(-crank.frame_b.fy*crank.frame_b.x - crank.translation.frame_a.tau)/crank.frame_b.y, "
-    "a division by crank.frame_b.y = 0.2 sin(theta) = 0 (0/0). LinearSolver accepts any coefficient that "
-    "does not contain the unknown itself, including state-dependent ones. runtime.simulate on the same "
-    "model (no dynamic selection) gets through."))
 def test_four_bar_starts_with_the_crank_horizontal():
     res = api.simulate_compiled(compiled("FourBar"), 0.5, rtol=1e-10, atol=1e-10, points=51, params={"theta0": 0.0})
     (theta, _), _ = one_coordinate_model(four_bar_coordinates, FOURBAR["I"], FOURBAR["m"], 0.0, 10.0, res.time)
