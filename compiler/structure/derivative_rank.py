@@ -51,20 +51,49 @@ def remove_derivative_dependencies(equations: list[sympy.Expr], derivative_symbo
         return list(equations), report
 
     result = list(equations)
-    basis_rows: list[int] = []                          # positions in `rows` that are independent
-    for k, row in enumerate(coefficient_rows):
-        if basis_rows:
-            basis = np.array([coefficient_rows[b] for b in basis_rows])
-            weights, *_ = np.linalg.lstsq(basis.T, row, rcond=None)
-            residual = row - basis.T @ weights
-            scale = max(1.0, float(np.max(np.abs(row))))
-            if np.max(np.abs(residual)) <= tol * scale:
-                result[rows[k]] = _combine(result, rows, basis_rows, k, weights, ders)
-                report.replaced.append(rows[k])
-                continue
-        basis_rows.append(k)
-    report.rank = len(basis_rows)
+    rank = 0
+    # Rows can only depend on rows that share a derivative with them (transitively): analyse each
+    # connected group on its own; most groups are a single row (linear in the model size).
+    for group in _groups_sharing_derivatives(coefficient_rows):
+        basis_rows: list[int] = []                      # positions in `rows` that are independent
+        for k in group:
+            row = coefficient_rows[k]
+            if basis_rows:
+                basis = np.array([coefficient_rows[b] for b in basis_rows])
+                weights, *_ = np.linalg.lstsq(basis.T, row, rcond=None)
+                residual = row - basis.T @ weights
+                scale = max(1.0, float(np.max(np.abs(row))))
+                if np.max(np.abs(residual)) <= tol * scale:
+                    result[rows[k]] = _combine(result, rows, basis_rows, k, weights, ders)
+                    report.replaced.append(rows[k])
+                    continue
+            basis_rows.append(k)
+        rank += len(basis_rows)
+    report.rank = rank
     return result, report
+
+
+def _groups_sharing_derivatives(coefficient_rows: list[np.ndarray]) -> list[list[int]]:
+    """Connected components of rows linked by a common nonzero derivative column (union-find)."""
+    parent = list(range(len(coefficient_rows)))
+
+    def find(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    owner: dict[int, int] = {}
+    for k, row in enumerate(coefficient_rows):
+        for j in np.flatnonzero(row):
+            if j in owner:
+                parent[find(k)] = find(owner[j])
+            else:
+                owner[j] = k
+    groups: dict[int, list[int]] = {}
+    for k in range(len(coefficient_rows)):
+        groups.setdefault(find(k), []).append(k)
+    return [sorted(g) for g in groups.values()]
 
 
 def _combine(equations, rows, basis_rows, k, weights, ders) -> sympy.Expr:
