@@ -20,16 +20,20 @@ def compile(model_spec: str, lib_dirs: Sequence[str] = ()) -> Compilation:  # no
 
 def simulate_compiled(compilation: Compilation, stop: float, *, start: float = 0.0, rtol: float = 1e-6,
                       atol: float = 1e-6, points: int = 501, saveat=None,
-                      params: Mapping[str, float] | None = None, progress: bool | None = None) -> runtime.Result:
+                      params: Mapping[str, float] | None = None, progress: bool | None = None,
+                      integrator_options: Mapping | None = None) -> runtime.Result:
+    """`integrator_options` go to CasADi's IDAS interface, e.g. {"suppress_algebraic": False} to keep
+    the algebraic unknowns in the error test (default: suppressed, see compiler/runtime.py)."""
     try:
         if compilation.dynamic:
             from compiler.dynamic import simulate_dynamic
             result = simulate_dynamic(compilation.flat, compilation.analysis, compilation.variant, stop,
                                       start=start, rtol=rtol, atol=atol, points=points, saveat=saveat,
-                                      params=params)
+                                      params=params, integrator_options=integrator_options)
         else:
             result = runtime.simulate(compilation.model, stop, start=start, rtol=rtol, atol=atol, points=points,
-                                      saveat=saveat, params=params, progress=progress)
+                                      saveat=saveat, params=params, progress=progress,
+                                      integrator_options=integrator_options)
     except runtime.SimulationFailed as err:
         raise SimulationError(str(err), getattr(err, "time_reached", None), getattr(err, "reason", None)) from None
     except runtime.ModelInputError as err:

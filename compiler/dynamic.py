@@ -179,7 +179,7 @@ def _restart_model(model: runtime.CompiledModel, x_target: np.ndarray, z_guess: 
 
 def simulate_dynamic(flat: FlatSystem, analysis: Analysis, first: Variant, stop: float, *, start: float = 0.0,
                      rtol: float = 1e-6, atol: float = 1e-6, points: int = 501, saveat=None,
-                     params=None, max_steps: int = 100000) -> runtime.Result:
+                     params=None, max_steps: int = 100000, integrator_options=None) -> runtime.Result:
     grid = runtime.output_grid(float(start), float(stop), points, saveat)
     n = len(grid)
     uniform = n > 2 and np.allclose(np.diff(grid), grid[1] - grid[0], rtol=1e-9, atol=0)
@@ -202,7 +202,7 @@ def simulate_dynamic(flat: FlatSystem, analysis: Analysis, first: Variant, stop:
     i, span, forced = 0, SEGMENT_POINTS, False
     while i < n - 1:
         j = min(n - 1, i + span)
-        work = workspaces.setdefault(variant.states, _Workspace(variant, rtol, atol, max_steps, n))
+        work = workspaces.setdefault(variant.states, _Workspace(variant, rtol, atol, max_steps, n, integrator_options))
         try:
             x_end, z_end = runtime._integrate_segment(variant.model, grid, i, j, x, z, p, work.options, uniform,
                                                       work.integrators, work.xs, work.zs, work.counters)
@@ -262,9 +262,9 @@ def _next_span(qualities: list[float]) -> int:
 class _Workspace:
     """Per state set: IDAS options, cached integrators and solution buffers."""
 
-    def __init__(self, variant: Variant, rtol, atol, max_steps, n):
+    def __init__(self, variant: Variant, rtol, atol, max_steps, n, integrator_options=None):
         model = variant.model
-        self.options = runtime._integrator_options(model, rtol, atol, max_steps, None)
+        self.options = runtime._integrator_options(model, rtol, atol, max_steps, integrator_options)
         self.integrators: dict = {}
         self.xs = np.empty((len(model.state_names), n))
         self.zs = np.empty((len(model.algebraic_names), n))
