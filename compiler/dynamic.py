@@ -61,9 +61,14 @@ def monitored_levels(flat: FlatSystem, analysis: Analysis, report: StructureRepo
             continue
         kept = [v for v in candidates if v not in chosen]
         stand_ins = _stand_ins(system, kept)
-        varying = [v for v in chosen if v not in stand_ins and
-                   any(not sympy.diff(system.equations[e], system.symbols[v]).free_symbols <= constant
-                       for e in rows)]
+        candidates_of_interest = set(chosen) - stand_ins
+        varying_set = set()
+        for e in rows:                                 # only where the unknown occurs: linear in size
+            for v in system.incidence[e]:
+                if v in candidates_of_interest and v not in varying_set and \
+                        not sympy.diff(system.equations[e], system.symbols[v]).free_symbols <= constant:
+                    varying_set.add(v)
+        varying = [v for v in chosen if v in varying_set]
         if not varying:
             continue                                   # a constant pivot block is valid everywhere
         if min(priority(v) for v in kept) > max(priority(v) for v in varying):
