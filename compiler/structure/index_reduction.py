@@ -3,8 +3,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from compiler.errors import DyadError
+import sympy
+
 from compiler.flat import der_name
+from compiler.structure.diagnostics import structural_singularity_error
 from compiler.structure.graph.pantelides import StructurallySingular, pantelides, structural_index
 from compiler.structure.indexed import IndexedSystem
 
@@ -20,9 +22,8 @@ def reduce_index(system: IndexedSystem, describe_equation=None) -> tuple[Indexed
     n_vars_before = system.n_vars
     try:
         result = pantelides(system.n_eqs, system.n_vars, system.incidence, list(system.var_to_diff))
-    except StructurallySingular as err:
-        unmatched = list(getattr(err, "unmatched_eqs", []) or [])
-        raise _singular_error(system, unmatched, describe_equation) from None
+    except StructurallySingular:
+        raise structural_singularity_error(system, describe_equation) from None
 
     names = list(system.names)
     names.extend([None] * (result.n_vars - len(names)))
@@ -30,9 +31,10 @@ def reduce_index(system: IndexedSystem, describe_equation=None) -> tuple[Indexed
         d = result.var_to_diff[v]
         if d >= 0 and names[d] is None:
             names[d] = der_name(names[v])
-    reduced = IndexedSystem(names, list(result.var_to_diff), list(system.equations) + [None] * (result.n_eqs - system.n_eqs),
-                            list(system.origins) + [None] * (result.n_eqs - system.n_eqs),
-                            list(result.eq_to_diff), incidence=[[0]])  # incidence recomputed below
+    added = result.n_eqs - system.n_eqs
+    # the added equations are placeholders until differentiated below, in creation order
+    reduced = IndexedSystem(names, list(result.var_to_diff), list(system.equations) + [sympy.Integer(0)] * added,
+                            list(system.origins) + [None] * added, list(result.eq_to_diff))
     for original, derived in result.differentiation_order:
         reduced.equations[derived] = reduced.time_derivative(reduced.equations[original])
         reduced.origins[derived] = reduced.origins[original]
@@ -41,7 +43,3 @@ def reduce_index(system: IndexedSystem, describe_equation=None) -> tuple[Indexed
                                   reduced.n_vars - n_vars_before)
     return reduced, report
 
-
-def _singular_error(system: IndexedSystem, unmatched_eqs: list[int], describe_equation) -> DyadError:
-    from compiler.structure.diagnostics import structural_singularity_error
-    return structural_singularity_error(system, describe_equation)
