@@ -55,43 +55,37 @@ def _variables_to_equations(n_vars: int, incidence: list[list[int]]) -> list[lis
     return columns
 
 
+def _alternating_reach(starts: list[int], neighbours: list[list[int]], mate: list[int],
+                       n_side: int, n_other: int) -> tuple[list[bool], list[bool]]:
+    """Nodes reachable from unmatched `starts` by alternating paths (any edge out, matched edge
+    back): from unmatched equations this is the over-determined part, from unmatched variables
+    (with the transposed incidence) the under-determined part."""
+    side = [False] * n_side
+    other = [False] * n_other
+    pending = list(starts)
+    for node in pending:
+        side[node] = True
+    while pending:
+        node = pending.pop()
+        for neighbour in neighbours[node]:
+            if other[neighbour]:
+                continue
+            other[neighbour] = True
+            partner = mate[neighbour]
+            if partner != UNMATCHED and not side[partner]:
+                side[partner] = True
+                pending.append(partner)
+    return side, other
+
+
 def dulmage_mendelsohn(n_eqs: int, n_vars: int, incidence: list[list[int]]) -> DMPartition:
     eq_to_var, var_to_eq = maximum_matching(n_eqs, n_vars, incidence)
     unmatched_eqs = [eq for eq in range(n_eqs) if eq_to_var[eq] == UNMATCHED]
     unmatched_vars = [var for var in range(n_vars) if var_to_eq[var] == UNMATCHED]
 
-    over_eq = [False] * n_eqs
-    over_var = [False] * n_vars
-    pending = list(unmatched_eqs)
-    for eq in pending:
-        over_eq[eq] = True
-    while pending:
-        eq = pending.pop()
-        for var in incidence[eq]:
-            if over_var[var]:
-                continue
-            over_var[var] = True
-            mate = var_to_eq[var]
-            if mate != UNMATCHED and not over_eq[mate]:
-                over_eq[mate] = True
-                pending.append(mate)
-
+    over_eq, over_var = _alternating_reach(unmatched_eqs, incidence, var_to_eq, n_eqs, n_vars)
     columns = _variables_to_equations(n_vars, incidence)
-    under_eq = [False] * n_eqs
-    under_var = [False] * n_vars
-    pending = list(unmatched_vars)
-    for var in pending:
-        under_var[var] = True
-    while pending:
-        var = pending.pop()
-        for eq in columns[var]:
-            if under_eq[eq]:
-                continue
-            under_eq[eq] = True
-            mate = eq_to_var[eq]
-            if mate != UNMATCHED and not under_var[mate]:
-                under_var[mate] = True
-                pending.append(mate)
+    under_var, under_eq = _alternating_reach(unmatched_vars, columns, eq_to_var, n_vars, n_eqs)
 
     return DMPartition(
         overdetermined_eqs=[eq for eq in range(n_eqs) if over_eq[eq]],
