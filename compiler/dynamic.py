@@ -29,6 +29,7 @@ from compiler.structure.reduced import Assignment, ReducedSystem
 
 SWITCH_RATIO = 0.5
 SEGMENT_POINTS = 50
+_GREEDY_REL_TOL = 1e-8              # the dummy-derivative choice's own threshold (_numeric_greedy)
 
 
 @dataclass
@@ -37,6 +38,7 @@ class LevelMonitor:
     candidates: list[int]
     chosen: list[int]
     entry_outputs: list[int]        # output indices of the rows x candidates entries, row-major
+    ordering: tuple | None = None   # (candidate positions by priority, the priority classes), cached
 
 
 @dataclass
@@ -47,6 +49,8 @@ class Variant:
     report: StructureReport
     public_names: list[str]
     monitors: list[LevelMonitor] = field(default_factory=list)
+    # every state set reached from this one, built once and kept for later runs (shared by all)
+    siblings: dict = field(default_factory=dict)
 
 
 def monitored_levels(flat: FlatSystem, analysis: Analysis, report: StructureReport) -> list[tuple]:
@@ -154,9 +158,26 @@ def needs_switch(variant: Variant, values: np.ndarray, priority) -> bool:
 
 def _best_columns(matrix: np.ndarray, monitor: LevelMonitor, priority) -> list[int]:
     """The pivoted choice at this point, as positions in `monitor.candidates`."""
-    order = sorted(range(len(monitor.candidates)), key=lambda j: (priority(monitor.candidates[j]), j))
+    if monitor.ordering is None:
+        order = sorted(range(len(monitor.candidates)), key=lambda j: (priority(monitor.candidates[j]), j))
+        classes: dict[int, list[int]] = {}
+        for j in order:
+            classes.setdefault(priority(monitor.candidates[j]), []).append(j)
+        monitor.ordering = (order, list(classes.values()))
+    order, classes = monitor.ordering
+    if matrix.shape[0] == 1:
+        # one constraint row (a pendulum rod): the pivoted Gram-Schmidt of _numeric_greedy reduces
+        # to the largest entry of the first priority class that has a usable one; this runs at
+        # every output point, so it skips the general routine
+        row = np.abs(matrix[0])
+        threshold = _GREEDY_REL_TOL * max(1.0, float(row.max()))
+        for members in classes:
+            j = max(members, key=lambda k: row[k])
+            if row[j] > threshold:
+                return [j]
+        return []
     chosen, _ = _numeric_greedy(order, matrix[:, order], lambda j: priority(monitor.candidates[j]),
-                                len(monitor.rows))
+                                len(monitor.rows), rel_tol=_GREEDY_REL_TOL)
     return chosen
 
 
@@ -189,7 +210,8 @@ def simulate_dynamic(flat: FlatSystem, analysis: Analysis, first: Variant, stop:
     n = len(grid)
     uniform = n > 2 and np.allclose(np.diff(grid), grid[1] - grid[0], rtol=1e-9, atol=0)
     priority = _priority_function(analysis)
-    variants = {first.states: first}
+    variants = first.siblings
+    variants.setdefault(first.states, first)
     workspaces: dict[tuple, _Workspace] = {}
     variant = first
     p = variant.model.parameter_vector(params)
@@ -278,7 +300,8 @@ class _Workspace:
 
 
 def _switch(flat, analysis, variant, variants, here: dict, t: float, params, stats):
-    new = _variant_at(flat, analysis, here, variants)
+    # a run that began in C code (`--codegen c`) stays in C code in every state set
+    new = _variant_at(flat, analysis, here, variants, c_code=variant.model.metadata.get("codegen") == "c")
     if new.states == variant.states:
         raise runtime.SimulationFailed(f"simulation of {variant.model.name} failed at t = {t:.10g}: the "
                                        "state selection is singular here and no better one exists", t,
@@ -291,13 +314,19 @@ def _switch(flat, analysis, variant, variants, here: dict, t: float, params, sta
     return new, p, (point.x, point.z)
 
 
-def _variant_at(flat, analysis, values: dict[str, float], cache: dict) -> Variant:
+def _variant_at(flat, analysis, values: dict[str, float], cache: dict, c_code: bool = False) -> Variant:
     point = {k: float(v) for k, v in values.items() if not k.startswith("__pivot")}
     selection = select_states(analysis.system, analysis.priorities, flat, point)
     states = tuple(analysis.system.names[v] for v in selection.states)
     if states not in cache:
-        cache[states] = build_variant(flat, analysis, point)
-    return cache[states]
+        built = build_variant(flat, analysis, point)
+        built.siblings = cache
+        cache[states] = built
+    variant = cache[states]
+    if c_code and variant.model.metadata.get("codegen") != "c":
+        from compiler.ccodegen import compile_c
+        compile_c(variant.model)
+    return variant
 
 
 def _public(variant: Variant, column: np.ndarray, public: list[str]) -> np.ndarray:

@@ -325,3 +325,29 @@ def test_transistor_amplifier_matches_the_test_set_reference(transistor_amplifie
 def test_transistor_amplifier_is_index_1(transistor_amplifier):
     compilation, _ = transistor_amplifier
     assert compilation.report.structural_index == 1
+
+
+def test_switched_state_sets_are_built_once_and_kept_for_later_runs():
+    compilation = api.compile("StructureModels.CartesianPendulumHigh", lib_dirs=(str(MODELS),))
+    api.simulate_compiled(compilation, 2.0, rtol=1e-6, atol=1e-6, points=201)
+    built = dict(compilation.variant.siblings)
+    assert set(built) == {("x", "u"), ("y", "v")}
+    again = api.simulate_compiled(compilation, 2.0, rtol=1e-6, atol=1e-6, points=201)
+    assert again.stats["state_switches"]
+    assert all(compilation.variant.siblings[k] is v for k, v in built.items())
+
+
+@pytest.mark.skipif(__import__("compiler.ccodegen", fromlist=["x"]).find_compiler() is None,
+                    reason="no C compiler")
+def test_c_code_run_stays_in_c_code_in_every_state_set(tmp_path, monkeypatch):
+    from compiler.ccodegen import use_c_code
+    monkeypatch.setenv("DYADC_CACHE", str(tmp_path / "cache"))
+    vm = api.compile("StructureModels.CartesianPendulumHigh", lib_dirs=(str(MODELS),))
+    native = api.compile("StructureModels.CartesianPendulumHigh", lib_dirs=(str(MODELS),))
+    native.model = use_c_code(native.model)
+    a = api.simulate_compiled(vm, 3.0, rtol=1e-8, atol=1e-8, points=301)
+    b = api.simulate_compiled(native, 3.0, rtol=1e-8, atol=1e-8, points=301)
+    assert len(b.stats["state_switches"]) >= 4
+    assert {v.model.metadata.get("codegen") for v in native.variant.siblings.values()} == {"c"}
+    # same equations, different evaluation order: agreement far inside the tolerance's error
+    assert np.max(np.abs(a["x"] - b["x"])) < 1e-9
