@@ -42,7 +42,7 @@ def log(message: str) -> None:
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer tolerances, smaller budgets")
-    parser.add_argument("--only", default="", help="comma-separated problems (excavator, pendulum, andrews, robertson)")
+    parser.add_argument("--only", default="", help="comma-separated problems (excavator, pendulum, swinging, andrews, robertson)")
     parser.add_argument("--no-compile", action="store_true", help="skip the compile-time measurements")
     parser.add_argument("--out", default=str(ROOT / "docs"), help="folder for benchmarks.md (PNGs go to <out>/benchmarks/)")
     args = parser.parse_args(argv)

@@ -23,13 +23,12 @@ import sympy
 from compiler import runtime
 from compiler.flat import FlatSystem
 from compiler.lower_casadi import lower
-from compiler.structure.dummy_derivatives import _numeric_greedy, base_variable
+from compiler.structure.dummy_derivatives import base_variable
 from compiler.structure.reduce import Analysis, StructureReport, reduce, select_states
 from compiler.structure.reduced import Assignment, ReducedSystem
 
-SWITCH_RATIO = 0.5
+SWITCH_RATIO = runtime.STATE_SWITCH_RATIO
 SEGMENT_POINTS = 50
-_GREEDY_REL_TOL = 1e-8              # the dummy-derivative choice's own threshold (_numeric_greedy)
 
 
 @dataclass
@@ -38,7 +37,6 @@ class LevelMonitor:
     candidates: list[int]
     chosen: list[int]
     entry_outputs: list[int]        # output indices of the rows x candidates entries, row-major
-    ordering: tuple | None = None   # (candidate positions by priority, the priority classes), cached
 
 
 @dataclass
@@ -133,58 +131,30 @@ def build_variant(flat: FlatSystem, analysis: Analysis, point: dict[str, float] 
     offset = len(public) + len(internal)
     monitors = [LevelMonitor(rows, cands, chosen, list(range(offset + start, offset + start + len(rows) * len(cands))))
                 for rows, cands, chosen, start in layouts]
+    model.state_sets = [_state_set(m, system.names, _priority_function(analysis)) for m in monitors]
     return Variant(tuple(reduced.states), reduced, model, report, public, monitors)
 
 
-def selection_quality(variant: Variant, values: np.ndarray, priority) -> float:
-    """min over monitored levels of sigma_min(current pivot block) / sigma_min(best block here):
+def _state_set(monitor: LevelMonitor, names: list[str], priority) -> dict:
+    """A monitored level in the runtime's plain form (CompiledModel.state_sets): candidate
+    positions grouped by priority class, lowest first, as the dummy-derivative choice orders them."""
+    order = sorted(range(len(monitor.candidates)), key=lambda j: (priority(monitor.candidates[j]), j))
+    classes: dict[int, list[int]] = {}
+    for j in order:
+        classes.setdefault(priority(monitor.candidates[j]), []).append(j)
+    return {"rows": len(monitor.rows), "candidates": [names[v] for v in monitor.candidates],
+            "chosen": [monitor.candidates.index(v) for v in monitor.chosen],
+            "classes": list(classes.values()), "entries": list(monitor.entry_outputs)}
+
+
+def selection_quality(variant: Variant, values: np.ndarray) -> float:
+    """runtime.state_selection_quality of the variant's monitored levels at one output point:
     1 when the current choice is the best one, towards 0 as it degrades."""
-    quality = 1.0
-    for m in variant.monitors:
-        matrix = values[m.entry_outputs].reshape(len(m.rows), len(m.candidates))
-        best = _best_columns(matrix, m, priority)
-        current = [m.candidates.index(v) for v in m.chosen]
-        if sorted(best) == sorted(current):
-            continue
-        best_sigma = _smallest_singular(matrix[:, best])
-        if best_sigma > 0:
-            quality = min(quality, _smallest_singular(matrix[:, current]) / best_sigma)
-    return quality
+    return runtime.state_selection_quality(variant.model.state_sets, values)[0]
 
 
-def needs_switch(variant: Variant, values: np.ndarray, priority) -> bool:
-    return selection_quality(variant, values, priority) < SWITCH_RATIO
-
-
-def _best_columns(matrix: np.ndarray, monitor: LevelMonitor, priority) -> list[int]:
-    """The pivoted choice at this point, as positions in `monitor.candidates`."""
-    if monitor.ordering is None:
-        order = sorted(range(len(monitor.candidates)), key=lambda j: (priority(monitor.candidates[j]), j))
-        classes: dict[int, list[int]] = {}
-        for j in order:
-            classes.setdefault(priority(monitor.candidates[j]), []).append(j)
-        monitor.ordering = (order, list(classes.values()))
-    order, classes = monitor.ordering
-    if matrix.shape[0] == 1:
-        # one constraint row (a pendulum rod): the pivoted Gram-Schmidt of _numeric_greedy reduces
-        # to the largest entry of the first priority class that has a usable one; this runs at
-        # every output point, so it skips the general routine
-        row = np.abs(matrix[0])
-        threshold = _GREEDY_REL_TOL * max(1.0, float(row.max()))
-        for members in classes:
-            j = max(members, key=lambda k: row[k])
-            if row[j] > threshold:
-                return [j]
-        return []
-    chosen, _ = _numeric_greedy(order, matrix[:, order], lambda j: priority(monitor.candidates[j]),
-                                len(monitor.rows), rel_tol=_GREEDY_REL_TOL)
-    return chosen
-
-
-def _smallest_singular(block: np.ndarray) -> float:
-    if block.size == 0:
-        return 0.0
-    return float(np.linalg.svd(block, compute_uv=False)[-1])
+def needs_switch(variant: Variant, values: np.ndarray) -> bool:
+    return selection_quality(variant, values) < SWITCH_RATIO
 
 
 def _restart_model(model: runtime.CompiledModel, x_target: np.ndarray, z_guess: np.ndarray) -> runtime.CompiledModel:
@@ -209,7 +179,6 @@ def simulate_dynamic(flat: FlatSystem, analysis: Analysis, first: Variant, stop:
     grid = runtime.output_grid(float(start), float(stop), points, saveat)
     n = len(grid)
     uniform = n > 2 and np.allclose(np.diff(grid), grid[1] - grid[0], rtol=1e-9, atol=0)
-    priority = _priority_function(analysis)
     variants = first.siblings
     variants.setdefault(first.states, first)
     workspaces: dict[tuple, _Workspace] = {}
@@ -251,7 +220,7 @@ def simulate_dynamic(flat: FlatSystem, analysis: Analysis, first: Variant, stop:
         for k in range(1, j - i + 1):
             values[:, i + k] = _public(variant, outs[:, k - 1], public)
             if variant.monitors and i + k < n - 1:
-                qualities.append(selection_quality(variant, outs[:, k - 1], priority))
+                qualities.append(selection_quality(variant, outs[:, k - 1]))
                 if qualities[-1] < SWITCH_RATIO:
                     switch_at = k
                     break

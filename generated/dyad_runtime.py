@@ -77,8 +77,9 @@ class CompiledModel:
       init    -> residuals        the initialization system (maybe more rows than unknowns)
       outputs -> values           one row per output name
       params(p_user, override_mask) -> p_full   re-derives dependent parameter defaults
-    `state_sets` is the extension point for dynamic state selection: a list of descriptions of
-    alternative state choices. None are produced yet and `simulate` refuses a model that has some.
+    `state_sets` describes the levels of the dummy-derivative choice that can degrade along a
+    trajectory (see `state_selection_quality`); `simulate` integrates the one state set it has and
+    stops where that set degrades (the compiler's dynamic simulation switches instead).
     """
 
     FUNCTION_NAMES = ("dae", "init", "outputs", "params")
@@ -638,10 +639,6 @@ def simulate(model: CompiledModel, stop: float, *, start: float = 0.0, rtol: flo
     `breakpoints` (default: model.metadata["breakpoints"]) are times where the model's inputs
     lose smoothness: IDAS stops exactly there and restarts, instead of stepping across the kink.
     """
-    if model.state_sets:
-        raise SimulationFailed(f"model {model.name} needs dynamic state selection "
-                               f"({len(model.state_sets)} state sets), which is not supported yet",
-                               start, "dynamic state selection not supported")
     grid = output_grid(float(start), float(stop), points, saveat)
     start, stop = float(grid[0]), float(grid[-1])
     if breakpoints is None:
@@ -661,9 +658,16 @@ def simulate(model: CompiledModel, stop: float, *, start: float = 0.0, rtol: flo
     n_chunks = int(chunks) if chunks else (min(20, len(solve_grid) - 1) if show else 1)
     adaptive = show and progress is None and not chunks
     began = _time.perf_counter()
-    xs, zs, counters = _integrate(model, solve_grid, p, point, rtol, atol, max_steps, n_chunks,
-                                  _Progress(show, start, stop), integrator_options, adaptive,
-                                  split_at=[int(i) for i in np.searchsorted(solve_grid, inner)])
+    try:
+        xs, zs, counters = _integrate(model, solve_grid, p, point, rtol, atol, max_steps, n_chunks,
+                                      _Progress(show, start, stop), integrator_options, adaptive,
+                                      split_at=[int(i) for i in np.searchsorted(solve_grid, inner)])
+    except SimulationFailed as err:
+        if not model.state_sets:
+            raise
+        hint = (f"; this model carries one state set ({', '.join(model.state_names)}), which may have "
+                f"degraded before this point: simulate it with dyadc, which switches state sets")
+        raise SimulationFailed(str(err) + hint, err.time_reached, (err.reason or "") + hint) from None
     stats["run_time"] = _time.perf_counter() - began
     stats.update(counters)
     if inner:
@@ -673,9 +677,96 @@ def simulate(model: CompiledModel, stop: float, *, start: float = 0.0, rtol: flo
 
     began = _time.perf_counter()
     values = _evaluate_outputs(model, xs, zs, p, grid)
+    check_state_selection(model, grid, values)
     check_bounds(model, grid, model.output_names, values)
     stats["output_time"] = _time.perf_counter() - began
     return Result(grid, model.output_names, values, stats, model.name)
+
+
+STATE_SWITCH_RATIO = 0.5       # switch (or stop) when the chosen pivot block is this much worse
+_PIVOT_REL_TOL = 1e-8
+
+
+def pivoted_columns(matrix: np.ndarray, classes: Sequence[Sequence[int]], n_rows: int,
+                    rel_tol: float = _PIVOT_REL_TOL) -> list[int]:
+    """Pivoted Gram–Schmidt: within each priority class (in order) take the column with the largest
+    part orthogonal to the columns already chosen, until `n_rows` are chosen. This is the
+    numerical dummy-derivative choice of the compiler, also used to monitor it while integrating."""
+    matrix = np.asarray(matrix, dtype=float)
+    scale = max(1.0, float(np.max(np.abs(matrix)))) if matrix.size else 1.0
+    if matrix.shape[0] == 1:
+        # one constraint row (a pendulum rod): the largest entry of the first usable class
+        row = np.abs(matrix[0])
+        for members in classes:
+            if members:
+                j = max(members, key=lambda k: row[k])
+                if row[j] > rel_tol * scale:
+                    return [j]
+        return []
+    basis = np.zeros((matrix.shape[0], 0))
+    chosen: list[int] = []
+    for members in classes:
+        remaining = list(members)
+        while remaining and len(chosen) < n_rows:
+            best, best_norm, best_vec = None, 0.0, None
+            for j in remaining:
+                col = matrix[:, j]
+                residual = col - basis @ (basis.T @ col) if basis.shape[1] else col.copy()
+                norm = float(np.linalg.norm(residual))
+                if norm > best_norm:
+                    best, best_norm, best_vec = j, norm, residual
+            if best is None or best_norm <= rel_tol * scale:
+                break
+            basis = np.column_stack([basis, best_vec / best_norm])
+            chosen.append(best)
+            remaining.remove(best)
+        if len(chosen) == n_rows:
+            break
+    return chosen
+
+
+def state_selection_quality(state_sets: Sequence[Mapping], column: np.ndarray) -> tuple[float, int]:
+    """How good the model's state choice is at one output point: min over the monitored levels
+    of sigma_min(chosen pivot block) / sigma_min(block that pivoting would choose here), 1 where
+    the choice is the best one. Each level is {"rows", "candidates", "chosen", "classes",
+    "entries"}: the level's Jacobian entries are outputs `entries` (row-major). Returns the
+    quality and the worst level's index."""
+    quality, worst = 1.0, -1
+    for k, level in enumerate(state_sets):
+        rows, n_cand = int(level["rows"]), len(level["candidates"])
+        matrix = np.asarray(column, dtype=float)[level["entries"]].reshape(rows, n_cand)
+        best = pivoted_columns(matrix, level["classes"], rows)
+        current = list(level["chosen"])
+        if sorted(best) == sorted(current) or len(best) < rows:
+            continue
+        best_sigma = _smallest_singular(matrix[:, best])
+        if best_sigma > 0:
+            ratio = _smallest_singular(matrix[:, current]) / best_sigma
+            if ratio < quality:
+                quality, worst = ratio, k
+    return quality, worst
+
+
+def _smallest_singular(block: np.ndarray) -> float:
+    return float(np.linalg.svd(block, compute_uv=False)[-1]) if block.size else 0.0
+
+
+def check_state_selection(model: CompiledModel, grid: np.ndarray, values: np.ndarray) -> None:
+    """A model compiled for one state set (a generated module, say) is only valid while that set
+    stays well conditioned: stop where pivoting would clearly choose another one."""
+    if not model.state_sets:
+        return
+    for k in range(values.shape[1]):
+        quality, worst = state_selection_quality(model.state_sets, values[:, k])
+        if quality < STATE_SWITCH_RATIO:
+            level = model.state_sets[worst]
+            dummies = ", ".join(level["candidates"][j] for j in level["chosen"])
+            reason = (f"its state set ({', '.join(model.state_names)}) degrades here (the pivot block of "
+                      f"the dummy derivatives {dummies} is {quality:.2g} times as well conditioned as "
+                      f"another choice); this model carries one state set: simulate it with dyadc, "
+                      f"which switches state sets")
+            raise SimulationFailed(f"simulation of {model.name} stopped at t = {grid[k]:.10g}: {reason}",
+                                   float(grid[k]), reason)
 
 
 def check_bounds(model: CompiledModel, grid: np.ndarray, names: Sequence[str], values: np.ndarray) -> None:

@@ -27,7 +27,7 @@ class DyadcContender:
         self.codegen = codegen
         self.name = "dyadc (C)" if codegen == "c" else "dyadc (VM)"
         began = time.perf_counter()
-        self.compilation = api.compile(problem.dyadc_spec)
+        self.compilation = api.compile(problem.dyadc_spec, problem.dyadc_lib_dirs)
         self.compile_seconds = time.perf_counter() - began
         self.build_seconds = 0.0
         if codegen == "c":

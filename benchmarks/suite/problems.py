@@ -1,4 +1,4 @@
-"""The four work-precision problems: model, output grid, reference solution and error measures.
+"""The five work-precision problems: model, output grid, reference solution and error measures.
 
 Every contender delivers named signals on the problem's output grid; `errors(signals)` turns
 them into named error measures, of which "error" is the one plotted and matched for speed-ups.
@@ -51,6 +51,7 @@ class Problem:
     scipy_options: dict
     error_label: str
     atol_ratio: float = 1.0          # atol = atol_ratio * rtol for every contender
+    dyadc_lib_dirs: tuple[str, ...] = ()
     notes: list[str] = field(default_factory=list)
 
     def dyadc_signals(self, result) -> dict[str, np.ndarray]:
@@ -89,6 +90,26 @@ class Pendulum(Problem):
     def errors(self, signals):
         exact = reference_module("pendulum").solution(self.grid, theta0=self.THETA0)["theta"]
         return {"error": float(np.max(np.abs(signals["theta"] - exact)))}
+
+
+class SwingingPendulum(Pendulum):
+    """Released above the horizontal: no static state choice holds, dyadc switches states."""
+    THETA0, T_END, POINTS = 2.0, 10.0, 1001
+
+    def __init__(self):
+        Problem.__init__(
+            self, key="swinging", title="Index-3 Cartesian pendulum with state switching, theta0 = 2.0 rad, "
+                                        "t = 0 ... 10 s",
+            dyadc_spec="StructureModels.CartesianPendulumHigh",
+            dyadc_lib_dirs=(str(ROOT / "tests" / "structure" / "models"),), stop=self.T_END,
+            grid=np.linspace(0.0, self.T_END, self.POINTS), scipy_module="scipy_pendulum",
+            scipy_options={"theta0": self.THETA0, "t_end": self.T_END, "points": self.POINTS},
+            error_label="max over the grid of |theta - theta_exact| [rad]",
+            notes=["The same DAE without state hints, released 2.0 rad from the downward vertical: every "
+                   "swing passes the horizontal, where x cannot be a state, and the bottom, where y cannot. "
+                   "dyadc switches between (x, u) and (y, v) about 15 times in 10 s; scipy integrates the "
+                   "angle ODE, which never needs a switch.",
+                   "theta = atan2(x, -y) for dyadc; reference: the closed form (Jacobi elliptic functions)."])
 
 
 class Andrews(Problem):
@@ -204,4 +225,4 @@ class Excavator(Problem):
 
 
 def all_problems(check_reference: bool = True) -> list[Problem]:
-    return [Excavator(check_reference), Pendulum(), Andrews(), Robertson()]
+    return [Excavator(check_reference), Pendulum(), SwingingPendulum(), Andrews(), Robertson()]

@@ -14,6 +14,7 @@ from typing import Callable
 
 import numpy as np
 
+from compiler.runtime import pivoted_columns
 from compiler.structure.indexed import IndexedSystem
 
 
@@ -115,31 +116,18 @@ def _augment(col, column_rows, row_to_col, visited) -> bool:
     return False
 
 
-def _numeric_greedy(order, values: np.ndarray, priority, n_rows, rel_tol=1e-8):
-    """Pivoted Gram–Schmidt: within each priority class take the column with the largest part
-    orthogonal to the columns already chosen. Returns (chosen, conditioning of the chosen block)."""
-    scale = max(1.0, float(np.max(np.abs(values)))) if values.size else 1.0
-    basis = np.zeros((values.shape[0], 0))
-    chosen_positions: list[int] = []
-    position = 0
-    while position < len(order) and len(chosen_positions) < n_rows:
-        level = priority(order[position])
-        group = [i for i in range(position, len(order)) if priority(order[i]) == level]
-        position = group[-1] + 1
-        remaining = list(group)
-        while remaining and len(chosen_positions) < n_rows:
-            best, best_norm, best_vec = None, 0.0, None
-            for i in remaining:
-                col = values[:, i]
-                residual = col - basis @ (basis.T @ col) if basis.shape[1] else col.copy()
-                norm = float(np.linalg.norm(residual))
-                if norm > best_norm:
-                    best, best_norm, best_vec = i, norm, residual
-            if best is None or best_norm <= rel_tol * scale:
-                break
-            basis = np.column_stack([basis, best_vec / best_norm])
-            chosen_positions.append(best)
-            remaining.remove(best)
+def _numeric_greedy(order, values: np.ndarray, priority, n_rows, rel_tol=1e-8, condition=True):
+    """Pivoted Gram–Schmidt (runtime.pivoted_columns) over `order`, whose priority classes are
+    consecutive runs. Returns (chosen, conditioning of the chosen block, or None without
+    `condition`)."""
+    classes: list[list[int]] = []
+    for i, item in enumerate(order):
+        if i == 0 or priority(item) != priority(order[i - 1]):
+            classes.append([])
+        classes[-1].append(i)
+    chosen_positions = pivoted_columns(values, classes, n_rows, rel_tol)
+    if not condition:
+        return [order[i] for i in chosen_positions], None
     block = values[:, chosen_positions] if chosen_positions else np.zeros((values.shape[0], 0))
-    condition = float(np.linalg.cond(block)) if block.shape[0] == block.shape[1] and block.size else float("inf")
-    return [order[i] for i in chosen_positions], condition
+    cond = float(np.linalg.cond(block)) if block.shape[0] == block.shape[1] and block.size else float("inf")
+    return [order[i] for i in chosen_positions], cond

@@ -1,0 +1,67 @@
+"""A module generated from a model that needs dynamic state selection carries its first state set
+only: it must run while that set is valid and stop, saying so, where the compiler would switch."""
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from compiler import api, runtime
+
+ROOT = Path(__file__).resolve().parents[2]
+MODELS = ROOT / "tests" / "structure" / "models"
+SPEC = "StructureModels.CartesianPendulumHigh"
+
+
+@pytest.fixture(scope="module")
+def module_dir(tmp_path_factory):
+    out = tmp_path_factory.mktemp("generated")
+    done = subprocess.run([sys.executable, "-m", "compiler", "compile", SPEC, "--lib", str(MODELS), "-o", str(out)],
+                          capture_output=True, text=True, cwd=ROOT, timeout=300)
+    assert done.returncode == 0, done.stderr
+    return out
+
+
+def run_module(module_dir: Path, stop: float) -> dict:
+    script = (
+        "import json, sys\n"
+        "import cartesian_pendulum_high as m\n"
+        "try:\n"
+        f"    r = m.simulate({stop}, rtol=1e-10, atol=1e-10, points={int(stop * 100) + 1})\n"
+        "    out = {'x': list(r['x']), 'y': list(r['y'])}\n"
+        "except m._runtime.SimulationFailed as err:\n"
+        "    out = {'error': str(err), 'time': err.time_reached}\n"
+        "out['compiler_loaded'] = [k for k in ('sympy', 'lark', 'compiler') if k in sys.modules]\n"
+        "print(json.dumps(out))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=module_dir, timeout=300)
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout.strip().splitlines()[-1])
+
+
+def test_module_matches_the_compiler_while_its_state_set_holds(module_dir):
+    out = run_module(module_dir, 0.5)
+    assert "error" not in out and out["compiler_loaded"] == []
+    reference = api.simulate_compiled(api.compile(SPEC, lib_dirs=(str(MODELS),)), 0.5, rtol=1e-10, atol=1e-10,
+                                      points=51)
+    assert reference.stats["state_switches"] == []            # the first switch is at about 0.57 s
+    assert np.max(np.abs(np.array(out["x"]) - reference["x"])) < 1e-12
+
+
+def test_module_stops_where_the_compiler_would_switch_state_sets(module_dir):
+    out = run_module(module_dir, 1.0)
+    reference = api.simulate_compiled(api.compile(SPEC, lib_dirs=(str(MODELS),)), 1.0, rtol=1e-10, atol=1e-10,
+                                      points=101)
+    first_switch = reference.stats["state_switches"][0]["time"]
+    assert out.get("time") == pytest.approx(first_switch, abs=1e-12)
+    assert "stopped at t = " in out["error"] and "(y, v) degrades here" in out["error"]
+    assert "simulate it with dyadc" in out["error"]
+
+
+def test_the_compiler_can_still_run_the_first_state_set_alone():
+    compilation = api.compile(SPEC, lib_dirs=(str(MODELS),))
+    assert compilation.model.state_sets and compilation.model.state_sets[0]["candidates"]
+    with pytest.raises(runtime.SimulationFailed, match="degrades here"):
+        runtime.simulate(compilation.model, 1.0, rtol=1e-8, atol=1e-8, points=101)
