@@ -1,12 +1,11 @@
 """generated/ is committed: it must be exactly what the compiler writes today, and usable alone."""
 import filecmp
-import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np
 
 from compiler.generate import GENERATED_MODELS, generate_all
+from tests.generated.fresh_process import run_json
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -27,10 +26,7 @@ def test_generated_excavator_runs_without_the_compiler():
         "bad = [k for k in ('sympy', 'lark', 'compiler') if k in sys.modules]\n"
         "print(json.dumps({'bad': bad, 'phi': list(r['boom_joint.phi']), 'states': len(m.STATES)}))\n"
     )
-    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=ROOT, timeout=300)
-    assert run.returncode == 0, run.stderr
-    import json
-    out = json.loads(run.stdout.strip().splitlines()[-1])
+    out = run_json(script, ROOT)
     assert out["bad"] == []
     assert out["states"] == 19
     from compiler.api import simulate

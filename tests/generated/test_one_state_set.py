@@ -1,6 +1,5 @@
 """A module generated from a model that needs dynamic state selection carries its first state set
 only: it must run while that set is valid and stop, saying so, where the compiler would switch."""
-import json
 import subprocess
 import sys
 from pathlib import Path
@@ -9,6 +8,7 @@ import numpy as np
 import pytest
 
 from compiler import api, runtime
+from tests.generated.fresh_process import run_json
 
 ROOT = Path(__file__).resolve().parents[2]
 MODELS = ROOT / "tests" / "structure" / "models"
@@ -36,9 +36,7 @@ def run_module(module_dir: Path, stop: float) -> dict:
         "out['compiler_loaded'] = [k for k in ('sympy', 'lark', 'compiler') if k in sys.modules]\n"
         "print(json.dumps(out))\n"
     )
-    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=module_dir, timeout=300)
-    assert done.returncode == 0, done.stderr
-    return json.loads(done.stdout.strip().splitlines()[-1])
+    return run_json(script, module_dir)
 
 
 def test_module_matches_the_compiler_while_its_state_set_holds(module_dir):
