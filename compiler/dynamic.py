@@ -32,21 +32,12 @@ SEGMENT_POINTS = 50
 
 
 @dataclass
-class LevelMonitor:
-    rows: list[int]
-    candidates: list[int]
-    chosen: list[int]
-    entry_outputs: list[int]        # output indices of the rows x candidates entries, row-major
-
-
-@dataclass
 class Variant:
     states: tuple[str, ...]
     reduced: ReducedSystem
     model: runtime.CompiledModel
     report: StructureReport
     public_names: list[str]
-    monitors: list[LevelMonitor] = field(default_factory=list)
     # every state set reached from this one, built once and kept for later runs (shared by all)
     siblings: dict = field(default_factory=dict)
 
@@ -129,32 +120,30 @@ def build_variant(flat: FlatSystem, analysis: Analysis, point: dict[str, float] 
     reduced.output_names = public + internal + [a.target for a in pivots]
     model = lower(reduced)
     offset = len(public) + len(internal)
-    monitors = [LevelMonitor(rows, cands, chosen, list(range(offset + start, offset + start + len(rows) * len(cands))))
-                for rows, cands, chosen, start in layouts]
-    model.state_sets = [_state_set(m, system.names, _priority_function(analysis)) for m in monitors]
-    return Variant(tuple(reduced.states), reduced, model, report, public, monitors)
+    priority = _priority_function(analysis)
+    model.state_sets = [_state_set(rows, cands, chosen, offset + start, system.names, priority)
+                        for rows, cands, chosen, start in layouts]
+    return Variant(tuple(reduced.states), reduced, model, report, public)
 
 
-def _state_set(monitor: LevelMonitor, names: list[str], priority) -> dict:
-    """A monitored level in the runtime's plain form (CompiledModel.state_sets): candidate
-    positions grouped by priority class, lowest first, as the dummy-derivative choice orders them."""
-    order = sorted(range(len(monitor.candidates)), key=lambda j: (priority(monitor.candidates[j]), j))
+def _state_set(rows: list[int], candidates: list[int], chosen: list[int], first_output: int,
+               names: list[str], priority) -> dict:
+    """A monitored level in the runtime's plain form (CompiledModel.state_sets): the level's
+    Jacobian entries are outputs first_output... (row-major), candidate positions are grouped by
+    priority class, lowest first, as the dummy-derivative choice orders them."""
+    order = sorted(range(len(candidates)), key=lambda j: (priority(candidates[j]), j))
     classes: dict[int, list[int]] = {}
     for j in order:
-        classes.setdefault(priority(monitor.candidates[j]), []).append(j)
-    return {"rows": len(monitor.rows), "candidates": [names[v] for v in monitor.candidates],
-            "chosen": [monitor.candidates.index(v) for v in monitor.chosen],
-            "classes": list(classes.values()), "entries": list(monitor.entry_outputs)}
+        classes.setdefault(priority(candidates[j]), []).append(j)
+    return {"rows": len(rows), "candidates": [names[v] for v in candidates],
+            "chosen": [candidates.index(v) for v in chosen], "classes": list(classes.values()),
+            "entries": list(range(first_output, first_output + len(rows) * len(candidates)))}
 
 
 def selection_quality(variant: Variant, values: np.ndarray) -> float:
     """runtime.state_selection_quality of the variant's monitored levels at one output point:
     1 when the current choice is the best one, towards 0 as it degrades."""
     return runtime.state_selection_quality(variant.model.state_sets, values)[0]
-
-
-def needs_switch(variant: Variant, values: np.ndarray) -> bool:
-    return selection_quality(variant, values) < SWITCH_RATIO
 
 
 def _restart_model(model: runtime.CompiledModel, x_target: np.ndarray, z_guess: np.ndarray) -> runtime.CompiledModel:
@@ -206,7 +195,7 @@ def simulate_dynamic(flat: FlatSystem, analysis: Analysis, first: Variant, stop:
             if span > 1:
                 span = 1                  # go point by point so the monitor sees the degradation
                 continue
-            if forced or not variant.monitors:
+            if forced or not variant.model.state_sets:
                 raise
             forced = True                 # switch at the last good point even without a clear margin
             here = dict(zip(variant.model.output_names, last_outputs))
@@ -219,7 +208,7 @@ def simulate_dynamic(flat: FlatSystem, analysis: Analysis, first: Variant, stop:
         switch_at, qualities = None, []
         for k in range(1, j - i + 1):
             values[:, i + k] = _public(variant, outs[:, k - 1], public)
-            if variant.monitors and i + k < n - 1:
+            if variant.model.state_sets and i + k < n - 1:
                 qualities.append(selection_quality(variant, outs[:, k - 1]))
                 if qualities[-1] < SWITCH_RATIO:
                     switch_at = k
