@@ -116,18 +116,15 @@ def _augment(col, column_rows, row_to_col, visited) -> bool:
     return False
 
 
-def _numeric_greedy(order, values: np.ndarray, priority, n_rows, rel_tol=1e-8, condition=True):
+def _numeric_greedy(order, values: np.ndarray, priority, n_rows, rel_tol=1e-8):
     """Pivoted Gram–Schmidt (runtime.pivoted_columns) over `order`, whose priority classes are
-    consecutive runs. Returns (chosen, conditioning of the chosen block, or None without
-    `condition`)."""
+    consecutive runs. Returns (chosen, conditioning of the chosen block)."""
     classes: list[list[int]] = []
     for i, item in enumerate(order):
         if i == 0 or priority(item) != priority(order[i - 1]):
             classes.append([])
         classes[-1].append(i)
     chosen_positions = pivoted_columns(values, classes, n_rows, rel_tol)
-    if not condition:
-        return [order[i] for i in chosen_positions], None
     block = values[:, chosen_positions] if chosen_positions else np.zeros((values.shape[0], 0))
     cond = float(np.linalg.cond(block)) if block.shape[0] == block.shape[1] and block.size else float("inf")
     return [order[i] for i in chosen_positions], cond
