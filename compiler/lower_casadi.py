@@ -294,8 +294,16 @@ def lower(reduced: ReducedSystem) -> CompiledModel:
                   "observables": len(reduced.observables),
                   "bounds": {name: dict(sorted(b.items()))
                              for name, b in sorted(reduced.metadata.get("bounds", {}).items())
-                             if name in set(output_names)}},
+                             if name in set(output_names)},
+                  "units": _declared_units(reduced, output_names)},
     )
+
+
+def _declared_units(reduced: ReducedSystem, output_names: list[str]) -> dict[str, str]:
+    """Declared units of the parameters and outputs: `-p L=100mm` converts with them, output
+    files and plots label with them."""
+    known = set(output_names) | {q.name for q in reduced.parameters}
+    return {name: unit for name, unit in sorted(reduced.metadata.get("units", {}).items()) if name in known}
 
 
 def _bind(env: dict, names: list[str], vector: ca.SX, kind: str) -> None:

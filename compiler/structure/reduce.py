@@ -202,7 +202,8 @@ def _assemble(flat, alias, system, selection, causal: Causalization, report) -> 
         assignments=kept, observables=observables, parameters=parameters, initial=initial,
         output_names=[v.name for v in flat.variables],
         alg_origins=[system.origins[e] for e in causal.residual_equations],
-        metadata=dict(flat.metadata, nominals=_nominals(flat, states + algebraics)),
+        metadata=dict(flat.metadata, nominals=_nominals(flat, states + algebraics),
+                      units={q.name: q.units for q in [*flat.variables, *flat.parameters] if q.units}),
     )
 
 
