@@ -63,6 +63,8 @@ def build_parser() -> argparse.ArgumentParser:
     _add_model(p)
     p.add_argument("-o", "--output-dir", default="generated", metavar="DIR")
     p.add_argument("--name", help="module name (default: the model name in snake_case)")
+    p.add_argument("--standalone", action="store_true",
+                   help="copy the runtime package beside the module (then it needs only casadi and numpy)")
     p.set_defaults(run=_cmd_compile)
 
     p = sub.add_parser("simulate", help="compile and simulate a model")
@@ -150,7 +152,7 @@ def _cmd_compile(args) -> int:
     from compiler.pipeline import compile_spec
     compilation = compile_spec(args.model, args.lib)
     name = args.name or _snake(compilation.model.name.split(".")[-1])
-    path = write_module(compilation.model, name, args.output_dir)
+    path = write_module(compilation.model, name, args.output_dir, standalone=args.standalone)
     print(f"wrote {path}")
     return 0
 
