@@ -34,7 +34,7 @@ sys.path.insert(0, {repo!r})
 from tests.runtime import runtime_systems as systems
 from compiler.codegen import write_module
 from compiler.lower_casadi import lower
-write_module(lower(systems.{system}()), {module!r}, {out!r})
+write_module(lower(systems.{system}()), {module!r}, {out!r}, standalone=True)
 """
 
 
@@ -45,14 +45,14 @@ def test_generated_module_is_byte_identical_across_hash_seeds(tmp_path, system):
         out = tmp_path / f"seed{seed}"
         run_python(GENERATE.format(repo=str(REPO), system=system, module="model",
                                    out=str(out)), {"PYTHONHASHSEED": seed})
-        texts.append(((out / "model.py").read_bytes(), (out / "dyad_runtime.py").read_bytes()))
+        texts.append(((out / "model.py").read_bytes(), (out / "dyad_runtime" / "__init__.py").read_bytes()))
     assert texts[0] == texts[1]
     assert texts[0][1] == Path(runtime.__file__).read_bytes()
 
 
-def test_generated_module_imports_no_compiler_and_matches_in_process(tmp_path):
+def test_standalone_module_imports_no_compiler_and_matches_in_process(tmp_path):
     model = lower(systems.valve_tank())
-    write_module(model, "valve_tank_model", tmp_path)
+    write_module(model, "valve_tank_model", tmp_path, standalone=True)
     code = """
 import json, sys
 import valve_tank_model as m
@@ -71,23 +71,39 @@ print(json.dumps({"h": r["h"].tolist(), "heavy": heavy, "params": m.PARAMETERS,
 
 def test_generated_module_works_inside_a_package(tmp_path):
     package = tmp_path / "models_pkg"
-    write_module(lower(systems.rc_circuit()), "rc", package)
+    write_module(lower(systems.rc_circuit()), "rc", package, standalone=True)
     (package / "__init__.py").write_text("")
     code = """
 import sys
 from models_pkg import rc
 r = rc.simulate(0.2, points=5)
-print(rc.model().name, float(r["C.v"][-1]), "dyad_runtime" in sys.modules)
+print(rc.model().name, float(r["C.v"][-1]), "dyad_runtime" in sys.modules, rc._runtime.__name__)
 """
-    name, final_voltage, top_level_runtime = run_python(code, {"PYTHONPATH": str(tmp_path)},
-                                                        cwd=tmp_path).split()
-    assert name == "RC" and top_level_runtime == "False"
+    name, final_voltage, top_level_runtime, runtime_name = run_python(code, {"PYTHONPATH": str(tmp_path)},
+                                                                      cwd=tmp_path).split()
+    assert name == "RC" and top_level_runtime == "False" and runtime_name == "models_pkg.dyad_runtime"
     assert float(final_voltage) == pytest.approx(10 * (1 - np.exp(-2.0)), rel=1e-5)
 
 
 def test_invalid_module_name_is_refused(tmp_path):
-    with pytest.raises(DyadError, match="not a valid Python module name"):
-        write_module(lower(systems.rc_circuit()), "my-model", tmp_path)
+    for name in ("my-model", "lambda", "dyad_runtime"):
+        with pytest.raises(DyadError, match="not a valid Python module name"):
+            write_module(lower(systems.rc_circuit()), name, tmp_path)
+
+
+def test_a_module_without_standalone_runs_on_the_installed_runtime(tmp_path):
+    model = lower(systems.rc_circuit())
+    write_module(model, "rc", tmp_path)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["rc.py"]        # no copy of the runtime
+    code = """
+import sys, rc
+r = rc.simulate(0.2, points=5)
+print(rc._runtime.__name__, float(r["C.v"][-1]), "sympy" in sys.modules)
+"""
+    runtime_name, final_voltage, sympy_loaded = run_python(code, {"PYTHONPATH": str(tmp_path)},
+                                                           cwd=tmp_path).split()
+    assert runtime_name == "compiler.runtime" and sympy_loaded == "False"
+    assert float(final_voltage) == runtime.simulate(model, 0.2, points=5)["C.v"][-1]
 
 
 def test_compiled_model_written_twice_gives_identical_modules(tmp_path):
