@@ -9,6 +9,7 @@ detection. The relations are turned into equations by compiler/flatten.py.
 from __future__ import annotations
 
 import difflib
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -89,6 +90,18 @@ def check_final(entries: list[BoundMod], declared_final: bool, decl_span: Span |
                             notes=[Note("made final here", entry.mod.span)])
 
 
+RESERVED_NAMES = {"time": ("the independent variable (simulation time)",
+                           "rename the declaration, e.g. `t0` or `t_start` for an instant")}
+
+
+def check_not_reserved(name: str, span: Span | None) -> None:
+    """`time` is built in: a declaration of that name would silently shadow or clash with it."""
+    reserved = RESERVED_NAMES.get(name)
+    if reserved is not None:
+        meaning, hint = reserved
+        raise DyadError(f"`{name}` is a reserved name: it is {meaning}", span, hint=hint)
+
+
 # ---------------------------------------------------------------------------- templates
 
 @dataclass
@@ -141,6 +154,7 @@ def build_template(resolved: Resolved, library: Library, seen: tuple[str, ...] =
     relations.extend((rel, lexical) for rel in getattr(definition, "relations", ()))
     seen_names: dict[str, ElementTemplate] = {}
     for element in elements:
+        check_not_reserved(element.name, element.decl.span)
         first = seen_names.get(element.name)
         if first is not None:
             inherited = first.owner != resolved.qualified_name
@@ -364,10 +378,26 @@ def _boolean_as_number(value: Any, span: Span | None) -> Any:
 
 
 def _numeric(value: Any, span: Span | None, name: str) -> Any:
+    """A parameter value must be a real number that a float can hold: the runtime computes in
+    doubles, so `sqrt(-1)` or `1e400` would otherwise fail later, far from the declaration."""
     if is_array(value):
         return np.vectorize(lambda v: _numeric(v, span, name), otypes=[object])(value)
     if not getattr(value, "is_number", False) or value.has(sympy.zoo, sympy.nan):
-        raise DyadError(f"the value of `{name}` is not a finite number ({value})", span)
+        raise DyadError(f"the value of `{name}` is not a finite number ({value})", span,
+                        hint="check for a division by zero or a logarithm of zero")
+    if value.is_extended_real is False:
+        raise DyadError(f"the value of `{name}` is not a real number ({value})", span,
+                        hint="a square root or logarithm of a negative number, or asin/acos "
+                             "outside [-1, 1], has no real value")
+    try:
+        as_float = float(value)
+    except (TypeError, ValueError):
+        raise DyadError(f"the value of `{name}` is not a real number ({value})", span) from None
+    if not math.isfinite(as_float):
+        shown = "infinite" if value.is_infinite else f"about {sympy.N(value, 3)}"
+        raise DyadError(f"the value of `{name}` overflows a floating-point number: it is {shown}, "
+                        f"beyond the largest double (about 1.8e308)", span,
+                        hint="use a smaller value or other units")
     return value
 
 
@@ -643,6 +673,7 @@ def _add_component(node: Instance, element: ElementTemplate, entries: list[Bound
         raise DyadError(f"`{decl.type_name}` is not a component or connector", decl.span)
     if isinstance(definition, ast.ComponentDef) and definition.partial:
         raise DyadError(f"cannot instantiate partial component `{decl.type_name}`", decl.span)
+    check_not_recursive(node, resolved, decl)
     child_mods = nested_mods(entries)
     if not decl.iterators:
         own = [BoundMod(normalize(m), own_scope) for m in decl.modifications]
@@ -663,6 +694,32 @@ def _add_component(node: Instance, element: ElementTemplate, entries: list[Bound
         array[index] = _instantiate(model, resolved, join_path(node.path, name), node,
                                     child_mods + own, decl.span)
     node.children[decl.name] = array
+
+
+def check_not_recursive(node: Instance, resolved: Resolved, decl: ast.ComponentDecl) -> None:
+    """A component may not contain itself, directly or through other components: the instance
+    tree would be infinite. Name the cycle with every declaration on it."""
+    chain: list[Instance] = []
+    ancestor: Instance | None = node
+    while ancestor is not None:
+        chain.append(ancestor)
+        if ancestor.qualified_name == resolved.qualified_name:
+            break
+        ancestor = ancestor.parent
+    else:
+        return
+    chain.reverse()                       # the first occurrence of the type, then down to `node`
+    steps = [chain[0].resolved.name]
+    notes = []
+    for inner in chain[1:]:
+        steps.append(f"{inner.path.rsplit('.', 1)[-1]}: {inner.resolved.name}")
+        notes.append(Note(f"`{chain[chain.index(inner) - 1].resolved.name}` contains "
+                          f"`{inner.resolved.name}` here", inner.decl_span))
+    steps.append(f"{decl.name}: {resolved.name}")
+    raise DyadError(f"component `{resolved.name}` contains itself: " + " -> ".join(steps),
+                    decl.span, notes=notes,
+                    hint="a component cannot have a subcomponent of its own type, directly or "
+                         "through other components; the instance tree would be infinite")
 
 
 def _as_attribute_entries(name: str, outer: list[BoundMod], own: list[BoundMod]
@@ -687,6 +744,7 @@ def _fill_connector(node: Instance, definition: ast.ConnectorDef, resolved: Reso
             raise DyadError(f"connector `{definition.name}` has no field `{name}`",
                             entries[0].mod.span, hint=suggest_name(name, names))
     for fld in definition.fields:
+        check_not_reserved(fld.name, fld.span)
         if fld.kind in ("stream", "path"):
             raise DyadError(f"`{fld.kind}` connector fields are not supported yet", fld.span)
         signal = fld.kind in ("input", "output")
