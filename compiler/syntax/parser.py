@@ -11,28 +11,17 @@ from pathlib import Path
 
 from lark import Lark, Token, Transformer, v_args
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken, VisitError
-from lark.lexer import BasicLexer, Lexer, LexerThread
+from lark.lexer import BasicLexer, LexerThread
 
 from compiler.errors import DyadError, Span, register_source
 from compiler.syntax import ast
 from compiler.syntax.checks import check_file
 from compiler.syntax.diagnostics import lexer_error, parse_error
+from compiler.syntax.lalr import load_parser
 from compiler.syntax.layout import LayoutError, arrange
-
-_GRAMMAR_PATH = Path(__file__).with_name("grammar.lark")
 
 # Decimal exponents, so that `100n` is exactly the float of `100e-9`.
 SI_EXPONENTS = {"p": -12, "n": -9, "u": -6, "μ": -6, "m": -3, "k": 3, "M": 6, "G": 9, "T": 12}
-
-
-class _TokenListLexer(Lexer):
-    """The parser receives the token list already arranged by compiler.syntax.layout."""
-
-    def __init__(self, lexer_conf):
-        pass
-
-    def lex(self, tokens):      # noqa: D102 - lark's custom-lexer protocol
-        return iter(tokens)
 
 
 class _StartAt:
@@ -48,11 +37,7 @@ class _StartAt:
 
 @lru_cache(maxsize=None)
 def _parsers() -> tuple[_StartAt, _StartAt, BasicLexer]:
-    grammar = _GRAMMAR_PATH.read_text(encoding="utf-8") + "\nexpression_start: expr\n"
-    # cache=True: lark keeps the LALR tables in the temp dir, keyed by a hash of grammar and
-    # options; building them costs ~0.3 s, loading ~0.02 s (every `dyadc` process pays it)
-    lark = Lark(grammar, start=["start", "expression_start"], parser="lalr", lexer=_TokenListLexer,
-                propagate_positions=True, maybe_placeholders=False, cache=True)
+    lark = load_parser()
     return _StartAt(lark, "start"), _StartAt(lark, "expression_start"), BasicLexer(lark.lexer_conf)
 
 
