@@ -84,6 +84,38 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--codegen", choices=["c"], help="compile the model to C with gcc")
     p.set_defaults(run=_cmd_simulate)
 
+    p = sub.add_parser("sweep", help="run a model over a grid or random samples of its parameters "
+                                     "(Dask or --serial); see docs/sweeps.md")
+    _add_model(p)
+    p.add_argument("--start", type=float, default=0.0, metavar="T0")
+    p.add_argument("--stop", type=float, required=True, metavar="T")
+    p.add_argument("--rtol", type=float, default=1e-6, metavar="R")
+    p.add_argument("--atol", type=float, default=1e-6, metavar="A")
+    p.add_argument("--points", type=int, default=501, metavar="N", help="output points (default 501)")
+    p.add_argument("-p", dest="params", action="append", default=[], metavar="NAME=AXIS",
+                   help="START:STOP:COUNT or [V1,V2] (grid axes), LOW:HIGH, uniform(a,b), "
+                        "loguniform(a,b), normal(mean,std) (with --samples), or VALUE (fixed)")
+    p.add_argument("--samples", type=int, metavar="N", help="draw N samples instead of a grid")
+    p.add_argument("--method", choices=["lhs", "random"], default="lhs",
+                   help="sampling for --samples: Latin hypercube (default) or plain random")
+    p.add_argument("--seed", type=int, default=None, metavar="S", help="seed for --samples")
+    p.add_argument("--vars", nargs="+", metavar="NAME", help="signals to record (default: the states)")
+    p.add_argument("--metrics", nargs="+", default=[], metavar="EXPR",
+                   help="per-sample scalars, e.g. 'max(abs(tip.y))' or 'peak=max(soil.F_y)'")
+    p.add_argument("--output", metavar="FILE.parquet|FILE.csv",
+                   help="trajectories; the per-sample table goes to FILE.samples.EXT")
+    p.add_argument("--plot", metavar="FILE.png", help="fan chart of --vars, scatter of the first metric")
+    p.add_argument("--serial", action="store_true", help="run the samples here, one after another (no Dask)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="an existing Dask scheduler, e.g. tcp://host:8786 (default $DASK_SCHEDULER_ADDRESS, "
+                        "else a local cluster)")
+    p.add_argument("--workers", type=int, metavar="N", help="local cluster size (default: one per core)")
+    p.add_argument("--batch-size", type=int, metavar="N", help="samples per Dask task (default: sized "
+                                                               "so task overhead stays under 10%%)")
+    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                   help="progress bar on stderr (default: when stderr is a terminal)")
+    p.set_defaults(run=_cmd_sweep)
+
     p = sub.add_parser("test", help="run the golden-trajectory test cases of the components' metadata")
     p.add_argument("model", metavar="MODEL", nargs="?", help="only this model (default: every model with tests)")
     p.add_argument("--lib", action="append", default=[], metavar="DIR")
@@ -194,6 +226,11 @@ def _cmd_simulate(args) -> int:
     if not args.output and not args.plot:
         _print_final(result, names)
     return 0
+
+
+def _cmd_sweep(args) -> int:
+    from compiler.sweep.command import main_sweep
+    return main_sweep(args)
 
 
 def _cmd_test(args) -> int:

@@ -1,0 +1,161 @@
+"""Where the samples run: one after another in this process, or in batches on Dask workers.
+
+Every sample runs through worker.run_sample on a model deserialized from the same payload, so a
+serial run and a Dask run compute the same numbers. On Dask, the payload is scattered to every
+worker once; each task runs one batch of samples, sized from a pilot run (sample 0, run here)
+so that the per-task cost stays under a tenth of the work. A worker that dies takes its running
+and queued batches with it; the scheduler re-runs them elsewhere (distributed's own recovery),
+and a batch that kills workers repeatedly is recorded as failed instead of ending the sweep.
+"""
+from __future__ import annotations
+
+import contextlib
+import logging
+import math
+import os
+import signal
+import threading
+import uuid
+from typing import Callable, Iterator, Sequence
+
+from compiler.errors import DyadError
+from compiler.sweep.worker import Job, ModelPayload, Outcome, load_model, run_batch, run_sample
+
+# Cost of one Dask task beyond its work: submit, schedule, ship, return (benchmarks/bench_sweep.py
+# measures it; a few ms on 2 cores). Batches are sized so that this stays under OVERHEAD_SHARE.
+TASK_OVERHEAD_S = 0.02
+OVERHEAD_SHARE = 0.1
+
+Sample = tuple[int, dict[str, float]]
+Report = Callable[[Outcome], None]
+
+
+def run_serial(payload: ModelPayload, job: Job, samples: Sequence[Sample], report: Report) -> dict:
+    model = load_model(payload)
+    for sample, params in samples:
+        report(run_sample(model, job, sample, params))
+    return {"engine": "serial", "workers": 1, "batch_size": 1}
+
+
+def batch_size(sample_seconds: float, samples: int, workers: int,
+               overhead: float = TASK_OVERHEAD_S) -> int:
+    """The fewest samples per task that keep `overhead` below OVERHEAD_SHARE of the task's work,
+    but no more than an even split over the workers (bigger batches would leave workers idle)."""
+    needed = math.ceil(overhead / (OVERHEAD_SHARE * max(sample_seconds, 1e-4)))
+    return max(1, min(needed, math.ceil(samples / max(1, workers))))
+
+
+def default_workers() -> int:
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:
+        return max(1, os.cpu_count() or 1)
+
+
+def run_dask(payload: ModelPayload, job: Job, samples: Sequence[Sample], report: Report, *,
+             scheduler: str | None = None, workers: int | None = None,
+             batch: int | None = None) -> dict:
+    samples = list(samples)
+    if not samples:
+        return {"engine": "dask", "workers": 0, "batch_size": 0}
+    # The pilot (sample 0) runs here: it sizes the batches and surfaces a bad request at once.
+    pilot = run_sample(load_model(payload), job, *samples[0])
+    report(pilot)
+    rest = samples[1:]
+    with dask_client(scheduler, workers) as client:
+        n_workers = max(1, len(client.scheduler_info().get("workers", {})))
+        size = batch or batch_size(pilot.seconds, len(rest), n_workers)
+        stats = {"engine": "dask", "workers": n_workers, "batch_size": size,
+                 "scheduler": scheduler or "LocalCluster", "pilot_seconds": pilot.seconds}
+        if rest:
+            _run_batches(client, payload, job, [rest[i:i + size] for i in range(0, len(rest), size)],
+                         report)
+    return stats
+
+
+def _run_batches(client, payload: ModelPayload, job: Job, batches: list[list[Sample]],
+                 report: Report) -> None:
+    from distributed import as_completed
+    model = client.scatter(payload, broadcast=True, hash=False)
+    token = uuid.uuid4().hex[:8]
+    futures = []
+    batch_of = {}
+    for i, batch in enumerate(batches):
+        future = client.submit(run_batch, model, job, batch, key=f"dyadc-sweep-{token}-{i}", pure=False)
+        futures.append(future)
+        batch_of[future.key] = batch
+    try:
+        for future in as_completed(futures):
+            try:
+                outcomes = future.result()
+            except (ImportError, AttributeError) as err:
+                raise DyadError(f"the Dask workers cannot run dyadc: {type(err).__name__}: {err}",
+                                hint="install this dyadc in the workers' environment "
+                                     "(the same .venv or `pip install dyadc[sweep]`)") from None
+            except Exception as err:              # noqa: BLE001 - e.g. KilledWorker: record, go on
+                outcomes = [Outcome(sample, False, 0.0, _task_failure(err)) for sample, _ in
+                            batch_of[future.key]]
+            for outcome in outcomes:
+                report(outcome)
+    except BaseException:
+        client.cancel(futures, force=True)
+        raise
+
+
+def _task_failure(err: Exception) -> str:
+    if type(err).__name__ == "KilledWorker":
+        return ("the worker running this sample died repeatedly (a crash in the solver or out of "
+                "memory); the sample was not finished")
+    return f"the task running this sample failed: {type(err).__name__}: {err}"
+
+
+@contextlib.contextmanager
+def dask_client(scheduler: str | None, workers: int | None) -> Iterator:
+    """A distributed.Client on `scheduler` (an address), or on a LocalCluster of `workers`
+    single-threaded worker processes (default: one per core), closed on exit."""
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        raise DyadError("dyadc sweep runs its samples on Dask (dask.distributed), which is not installed",
+                        hint="pip install 'dyadc[sweep]' (make install does), or run the samples one "
+                             "after another with --serial") from None
+    cluster = None
+    if scheduler:
+        try:
+            client = Client(scheduler, timeout="10s")
+        except (OSError, TimeoutError, ValueError) as err:
+            raise DyadError(f"cannot reach the Dask scheduler at {scheduler}: {err}",
+                            hint="start one with `dask scheduler` and workers with `dask worker ADDRESS`,"
+                                 " or leave out --scheduler (and DASK_SCHEDULER_ADDRESS) for a local "
+                                 "cluster") from None
+    else:
+        with _interrupts_ignored_by_children():
+            cluster = LocalCluster(n_workers=workers or default_workers(), threads_per_worker=1,
+                                   processes=True, dashboard_address=None,
+                                   silence_logs=logging.ERROR)
+        client = Client(cluster)
+    try:
+        try:
+            client.wait_for_workers(1, timeout=30)
+        except TimeoutError:
+            raise DyadError(f"the Dask scheduler at {scheduler} has no workers",
+                            hint=f"start some: dask worker {scheduler}") from None
+        yield client
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+@contextlib.contextmanager
+def _interrupts_ignored_by_children() -> Iterator[None]:
+    """Ctrl-C goes to the whole process group: worker processes started while SIGINT is ignored
+    keep ignoring it, so that only this process reacts (it cancels the sweep and stops them)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)

@@ -1,0 +1,119 @@
+"""What runs on a worker: deserialize the compiled model once per process, run a batch of samples.
+
+This module (and everything it imports) must stay free of the compiler proper: a worker imports
+compiler.runtime (casadi + numpy), compiler.errors and the metric evaluator, never sympy or lark.
+tests/sweep checks that in real worker processes.
+"""
+from __future__ import annotations
+
+import hashlib
+import math
+import pickle
+import time as _time
+from dataclasses import dataclass, field
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from compiler.runtime import CompiledModel, ModelInputError, SimulationFailed, simulate
+from compiler.sweep.metrics import Metric
+
+
+@dataclass(frozen=True)
+class ModelPayload:
+    """A compiled model as it travels: its serialized dict and a digest naming it."""
+    digest: str
+    data: Mapping
+
+    @classmethod
+    def of(cls, model: CompiledModel) -> "ModelPayload":
+        data = model.to_dict()
+        return cls(hashlib.sha256(pickle.dumps(data, protocol=4)).hexdigest(), data)
+
+
+@dataclass(frozen=True)
+class Job:
+    """The run options shared by every sample of a sweep."""
+    stop: float
+    start: float = 0.0
+    rtol: float = 1e-6
+    atol: float = 1e-6
+    points: int = 501
+    saveat: tuple[float, ...] | None = None
+    variables: tuple[str, ...] = ()
+    metrics: tuple[Metric, ...] = ()
+
+
+@dataclass
+class Outcome:
+    """One sample's fate: its signals and metrics, or why and when it failed."""
+    sample: int
+    ok: bool
+    seconds: float
+    reason: str | None = None
+    time_reached: float | None = None
+    time: np.ndarray | None = None
+    values: dict[str, np.ndarray] = field(default_factory=dict)
+    metrics: dict[str, float] = field(default_factory=dict)
+    worker: str = "local"
+
+
+_MODELS: dict[str, CompiledModel] = {}      # per process: deserialized once, reused by every batch
+
+
+def load_model(payload: ModelPayload) -> CompiledModel:
+    model = _MODELS.get(payload.digest)
+    if model is None:
+        _MODELS.clear()                          # a worker serves one sweep at a time
+        model = _MODELS[payload.digest] = CompiledModel.from_dict(payload.data)
+    return model
+
+
+def run_batch(payload: ModelPayload, job: Job, batch: Sequence[tuple[int, Mapping[str, float]]]
+              ) -> list[Outcome]:
+    model = load_model(payload)
+    worker = _worker_name()
+    outcomes = []
+    for sample, params in batch:
+        outcome = run_sample(model, job, sample, params)
+        outcome.worker = worker
+        outcomes.append(outcome)
+    return outcomes
+
+
+def run_sample(model: CompiledModel, job: Job, sample: int, params: Mapping[str, float]) -> Outcome:
+    began = _time.perf_counter()
+    try:
+        # progress=False: a progress bar splits the run into chunks, which would change the numbers
+        result = simulate(model, job.stop, start=job.start, rtol=job.rtol, atol=job.atol,
+                          points=job.points, saveat=list(job.saveat) if job.saveat else None,
+                          params=dict(params), progress=False)
+    except SimulationFailed as err:
+        return _failed(sample, began, err.reason or str(err), err.time_reached)
+    except ModelInputError as err:
+        return _failed(sample, began, str(err), None)
+    except Exception as err:                    # noqa: BLE001 - one bad sample must not end the sweep
+        return _failed(sample, began, f"{type(err).__name__}: {err}", None)
+    outcome = Outcome(sample, True, 0.0, time=result.time,
+                      values={name: np.asarray(result[name], dtype=float) for name in job.variables})
+    for metric in job.metrics:
+        try:
+            outcome.metrics[metric.label] = metric.evaluate(result.__getitem__, result.time)
+        except (ModelInputError, ValueError, IndexError) as err:
+            outcome.metrics[metric.label] = math.nan
+            outcome.reason = f"metric {metric.label}: {err}"
+    outcome.seconds = _time.perf_counter() - began
+    return outcome
+
+
+def _failed(sample: int, began: float, reason: str, time_reached: float | None) -> Outcome:
+    reached = None if time_reached is None or not math.isfinite(time_reached) else float(time_reached)
+    return Outcome(sample, False, _time.perf_counter() - began, reason, reached)
+
+
+def _worker_name() -> str:
+    try:
+        from distributed import get_worker
+        return str(get_worker().address)
+    except (ImportError, ValueError):
+        return "local"
