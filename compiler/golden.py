@@ -1,11 +1,12 @@
 """`dyadc test`: golden-trajectory tests declared in component metadata.
 
 A case (see compiler.golden_cases) is simulated at its production tolerance and compared, signal
-by signal, with the golden CSV tests/golden/<QualifiedModelName>.<case>.csv inside a tube
+by signal, with the golden CSV <golden_dir>/<QualifiedModelName>.<case>.csv inside a tube
 |y - y_golden| <= atol_s + rtol_s |y_golden|; the "final" values of the metadata are checked at the
-stop time within the same per-signal tube. Goldens are only ever written by `update=True`
-(`dyadc test --update`), from a run at GOLDEN_RTOL with absolute tolerances GOLDEN_RTOL scaled by
-the unknowns' nominal sizes. The metadata's "final" values are never written by the tool: they
+stop time within the same per-signal tube. The golden folder is the caller's (`dyadc test --golden
+DIR`, default DEFAULT_GOLDEN_DIR under the current directory). Goldens are only ever written by
+`accept=True` (`dyadc test --accept`), from a run at GOLDEN_RTOL with absolute tolerances
+GOLDEN_RTOL scaled by the unknowns' nominal sizes; a missing golden is otherwise an error. The metadata's "final" values are never written by the tool: they
 are statements made (and independently checked) by a person, and an update whose run disagrees
 with them is refused.
 """
@@ -14,7 +15,6 @@ from __future__ import annotations
 import os
 import sys
 import time
-from pathlib import Path
 from typing import Sequence
 
 from compiler.errors import DyadError
@@ -23,7 +23,7 @@ from compiler.golden_compare import (CaseReport, compare_finals, compare_signals
                                      read_golden, signal_values, write_golden)
 
 GOLDEN_RTOL = 1e-10
-GOLDEN_DIR = Path(__file__).resolve().parent.parent / "tests" / "golden"
+DEFAULT_GOLDEN_DIR = os.path.join("tests", "golden")     # relative: to the current directory
 
 
 def cases_of_compilation(model: str, compilation) -> list[TestCase]:
@@ -50,17 +50,18 @@ def _simulate(compilation, case: TestCase, rtol: float):
                                  atol=integrator_atol(compilation, case, rtol), points=case.points)
 
 
-def run_case(compilation, case: TestCase, golden_dir: str | os.PathLike | None = None,
+def run_case(compilation, case: TestCase, golden_dir: str | os.PathLike,
              spec: str | None = None) -> CaseReport:
-    """Simulate at the case's tolerance and compare with its golden. Never writes anything.
-    `spec` is how the user named the model (for the hint on a missing golden)."""
+    """Simulate at the case's tolerance and compare with its golden in `golden_dir`. Never writes
+    anything. `spec` is how the user named the model (for the hint on a missing golden)."""
     report = CaseReport(case)
     began = time.perf_counter()
-    path = golden_path(GOLDEN_DIR if golden_dir is None else golden_dir, case)
+    path = golden_path(golden_dir, case)
     try:
         if not os.path.isfile(path):
             raise DyadError(f"no golden file {path}", case.span,
-                            hint=f"create it explicitly: dyadc test {spec or case.model} --update")
+                            hint=f"create it explicitly (after checking the model independently): "
+                                 f"dyadc test {spec or case.model} --golden {golden_dir} --accept")
         golden = read_golden(path)
         result = _simulate(compilation, case, case.rtol)
     except DyadError as err:
@@ -75,12 +76,13 @@ def run_case(compilation, case: TestCase, golden_dir: str | os.PathLike | None =
     return report
 
 
-def update_case(compilation, case: TestCase, golden_dir: str | os.PathLike | None = None) -> CaseReport:
-    """Simulate at GOLDEN_RTOL and rewrite the golden, unless the run disagrees with the case's
-    "final" values (then nothing is written and the report fails)."""
+def accept_case(compilation, case: TestCase, golden_dir: str | os.PathLike) -> CaseReport:
+    """Simulate at GOLDEN_RTOL and write the golden into `golden_dir` (created if missing),
+    unless the run disagrees with the case's "final" values (then nothing is written and the
+    report fails)."""
     report = CaseReport(case)
     began = time.perf_counter()
-    path = golden_path(GOLDEN_DIR if golden_dir is None else golden_dir, case)
+    path = golden_path(golden_dir, case)
     try:
         result = _simulate(compilation, case, GOLDEN_RTOL)
     except DyadError as err:
@@ -99,6 +101,7 @@ def update_case(compilation, case: TestCase, golden_dir: str | os.PathLike | Non
                             f"metadata's final values")
         report.seconds = run_seconds
         return report
+    os.makedirs(golden_dir, exist_ok=True)
     write_golden(path, result.time, {n: result[n] for n in case.signals})
     report.notes.append(f"wrote {path} ({len(case.signals)} signals x {len(result.time)} rows, "
                         f"{os.path.getsize(path) / 1e6:.2f} MB; rtol {GOLDEN_RTOL:g}, "
@@ -108,17 +111,23 @@ def update_case(compilation, case: TestCase, golden_dir: str | os.PathLike | Non
 
 
 def _cases_by_model(lib_dirs: Sequence[str]) -> dict[str, list[TestCase]]:
+    """The cases of the libraries the user named (-L, DYADC_PATH), or of the shipped library
+    when none is named: a user's goldens live in their folder, the shipped ones in dyadc's."""
+    from compiler.library import Library
+    user_libraries = Library(lib_dirs).user_roots
     by_model: dict[str, list[TestCase]] = {}
-    for case in discover(lib_dirs):
+    for case in discover(lib_dirs, include_shipped=not user_libraries):
         by_model.setdefault(case.model, []).append(case)
     return by_model
 
 
-def run_tests(model_spec: str | None, lib_dirs: Sequence[str] = (), update: bool = False,
-              golden_dir: str | os.PathLike | None = None, out=None) -> list[CaseReport]:
-    """Run (or with `update`, regenerate) every case of one model, or of every model with cases.
-    A model named explicitly that fails to compile or declares no cases is an error; during
-    discovery a model that fails to compile fails its cases and the others still run."""
+def run_tests(model_spec: str | None, lib_dirs: Sequence[str] = (), *,
+              golden_dir: str | os.PathLike = DEFAULT_GOLDEN_DIR, accept: bool = False,
+              out=None) -> list[CaseReport]:
+    """Run (or with `accept`, write the goldens of) every case of one model, or without a model
+    every case of the named libraries (see _cases_by_model). A model named explicitly that fails
+    to compile or declares no cases is an error; during discovery a model that fails to compile
+    fails its cases and the others still run."""
     from compiler import api
 
     out = out or sys.stdout
@@ -142,11 +151,11 @@ def run_tests(model_spec: str | None, lib_dirs: Sequence[str] = (), update: bool
                     print(reports[-1].format(), file=out, flush=True)
     for spec, compilation, cases in targets:
         for case in cases:
-            if update:
-                report = update_case(compilation, case, golden_dir)
+            if accept:
+                report = accept_case(compilation, case, golden_dir)
             else:
                 report = run_case(compilation, case, golden_dir, spec)
-            print(report.format(verbose=not update), file=out, flush=True)
+            print(report.format(verbose=not accept), file=out, flush=True)
             reports.append(report)
     return reports
 
@@ -156,20 +165,22 @@ def _qualified_name(spec: str, lib_dirs: Sequence[str]) -> str:
     return load_model(spec, lib_dirs)[2]
 
 
-def main_test(model_spec: str | None, lib_dirs: list[str], update: bool) -> int:
-    """Entry point of `dyadc test [MODEL] [--lib DIR] [--update]`: prints results, returns 0 when
-    every case passed (or every golden was written) and 1 otherwise, including when there was
-    nothing to test."""
+def main_test(model_spec: str | None, lib_dirs: Sequence[str] = (), *,
+              golden_dir: str | os.PathLike | None = None, accept: bool = False) -> int:
+    """Entry point of `dyadc test [MODEL] [-L DIR] [--golden DIR] [--accept]`: prints results,
+    returns 0 when every case passed (or every golden was written) and 1 otherwise, including
+    when there was nothing to test."""
+    golden_dir = DEFAULT_GOLDEN_DIR if golden_dir is None else golden_dir
     try:
-        reports = run_tests(model_spec, lib_dirs, update)
+        reports = run_tests(model_spec, lib_dirs, golden_dir=golden_dir, accept=accept)
     except DyadError as err:
         print(err.format(), file=sys.stderr)
         return 1
     if not reports:
-        print("no test cases found (metadata {\"Dyad\": {\"tests\": ...}} in components/ and --lib dirs)",
-              file=sys.stderr)
+        print("no test cases found (metadata {\"Dyad\": {\"tests\": ...}} in the libraries named "
+              "with -L or DYADC_PATH, or else in the shipped library)", file=sys.stderr)
         return 1
     failed = [r for r in reports if not r.passed]
-    verb = "updated" if update else "passed"
+    verb = "accepted" if accept else "passed"
     print(f"{len(reports) - len(failed)} {verb}, {len(failed)} failed", flush=True)
     return 1 if failed else 0

@@ -185,16 +185,19 @@ def _non_negative(value: Any, what: str, span: Span | None) -> float:
 
 # ------------------------------------------------------------------------------- discovery
 
-def discover(lib_dirs: Sequence[str | os.PathLike] = ()) -> list[TestCase]:
-    """Every case of every component under components/ and the lib dirs. Parses only files whose
-    text mentions "tests" (a cheap filter; the parse decides)."""
+def discover(lib_dirs: Sequence[str | os.PathLike] = (), *, include_shipped: bool = True,
+             use_env: bool = True) -> list[TestCase]:
+    """Every case of every component on the library path: the shipped library (unless
+    `include_shipped` is false), the lib dirs and (if `use_env`) the DYADC_PATH folders. Parses
+    only files whose text mentions "tests" (a cheap filter; the parse decides)."""
     from compiler.library import Library
     from compiler.syntax.parser import parse_file
 
-    library = Library(lib_dirs)
+    library = Library(lib_dirs, use_env=use_env)
+    searched = library.roots if include_shipped else library.user_roots
     cases: list[TestCase] = []
     seen: set[Path] = set()
-    for root in library.roots:
+    for root in searched:
         for path in sorted(root.rglob("*.dyad")):
             path = path.resolve()
             if path in seen:

@@ -8,6 +8,7 @@ from __future__ import annotations
 import csv
 import math
 import os
+import tempfile
 from dataclasses import dataclass, field
 from typing import Mapping, Sequence
 
@@ -119,14 +120,24 @@ def read_golden(path: str) -> Golden:
 
 
 def write_golden(path: str, time: np.ndarray, columns: Mapping[str, np.ndarray]) -> None:
-    """Time first, then the columns, %.17g (round-trips doubles); atomically."""
-    from compiler.runtime import _atomic_write, _csv_field, _write_rows
-
+    """Time first, then the columns, %.17g (round-trips doubles); atomically: written to a
+    sibling temporary that replaces `path` only when complete."""
     names = list(columns)
     data = np.vstack([np.asarray(time, dtype=float)] + [np.asarray(columns[n], dtype=float)
                                                          for n in names]).T
-    header = ",".join(_csv_field(n) for n in ["time"] + names)
-    _atomic_write(path, lambda out: _write_rows(out, header, data))
+    directory = os.path.dirname(os.path.abspath(path))
+    handle, temp = tempfile.mkstemp(prefix=".golden.", suffix=".tmp", dir=directory)
+    try:
+        with os.fdopen(handle, "w", encoding="utf-8", newline="") as out:
+            writer = csv.writer(out, lineterminator="\n")
+            writer.writerow(["time"] + names)
+            writer.writerows(["%.17g" % value for value in row] for row in data)
+        os.chmod(temp, 0o644)
+        os.replace(temp, path)
+    except BaseException:
+        if os.path.exists(temp):
+            os.unlink(temp)
+        raise
 
 
 # ----------------------------------------------------------------------------- comparison
@@ -145,7 +156,7 @@ def compare_signals(case: TestCase, time: np.ndarray, values: Mapping[str, np.nd
     interpolate = not same_grid(time, golden.time)
     if interpolate:
         # Linear interpolation adds its own error (O(dt^2 y'')) to the difference: regenerate the
-        # golden on the case's grid (--update) when the tube is tight.
+        # golden on the case's grid (--accept) when the tube is tight.
         span = max(golden.time[-1] - golden.time[0], 1.0)
         mask = (time >= golden.time[0] - GRID_RTOL * span) & (time <= golden.time[-1] + GRID_RTOL * span)
         notes.append(f"result grid ({len(time)} points) differs from the golden grid "
@@ -156,7 +167,7 @@ def compare_signals(case: TestCase, time: np.ndarray, values: Mapping[str, np.nd
     for name in case.signals:
         if name not in golden.columns:
             checks.append(SignalCheck(name, math.inf, problem=f"no column `{name}` in {golden.path} "
-                                                              f"(regenerate it with --update)"))
+                                                              f"(regenerate it with --accept)"))
             continue
         if name not in values:
             checks.append(SignalCheck(name, math.inf, problem="the model has no such signal"))

@@ -1,10 +1,12 @@
-"""The library path: finds definitions by qualified name, parsing only the files it needs.
+"""The library: finds definitions by qualified name, parsing only the files it needs.
 
-Roots, searched in order: the project's `components/`, each extra lib dir, then the folders of
-the environment variable DYAD_PATH (os.pathsep-separated). Folders are namespaces:
-`root/A/B/Name.dyad` defines `A.B.Name`; when no file is named after the definition, the other
-`.dyad` files of the folder are searched (a cheap text scan decides which ones are worth parsing).
-Every parsed file is cached; `parse_count` counts real parses (tests use it to check laziness).
+Roots, searched in order (compiler.library_path): the library shipped with dyadc, each `-L DIR`
+(`lib_dirs`), each folder of the environment variable DYADC_PATH; then, source-only, the folder of
+a model file given by path. Folders are namespaces: `root/A/B/Name.dyad` defines `A.B.Name`; when
+no file is named after the definition, the other `.dyad` files of the folder are searched (a cheap
+text scan decides which ones are worth parsing). Every parsed file is cached; `parse_count` counts
+real parses (tests use it to check laziness). Python function plugins (`dyad_functions.py`) are
+executed only from roots on the search path, never from a source-only root.
 """
 from __future__ import annotations
 
@@ -18,9 +20,9 @@ from typing import Callable, Sequence
 from compiler.errors import DyadError, Span
 from compiler.functions import ELEMENTARY, GLOBAL_REGISTRY, FunctionImpl, FunctionRegistry, \
     suggest_function
+from compiler.library_path import LIBRARY_PATH_VARIABLE, Root, describe, search_path
 from compiler.syntax import ast
 
-PROJECT_COMPONENTS = Path(__file__).resolve().parent.parent / "components"
 STANDARD_PACKAGE = "Dyad"
 PRIMITIVE_TYPES = ("Real", "Integer", "Boolean", "String")
 FUNCTION_PLUGIN_FILE = "dyad_functions.py"
@@ -51,20 +53,12 @@ def qualify(package: str, name: str) -> str:
 
 
 class Library:
-    def __init__(self, lib_dirs: Sequence[str | os.PathLike] = (), *, include_project: bool = True,
+    def __init__(self, lib_dirs: Sequence[str | os.PathLike] = (), *, include_shipped: bool = True,
                  use_env: bool = True, parser: Callable[[str], ast.File] | None = None,
                  registry: FunctionRegistry = GLOBAL_REGISTRY):
-        roots: list[Path] = []
-        if include_project:
-            roots.append(PROJECT_COMPONENTS)
-        roots.extend(Path(d) for d in lib_dirs)
-        if use_env:
-            roots.extend(Path(d) for d in os.environ.get("DYAD_PATH", "").split(os.pathsep) if d)
-        self.roots: list[Path] = []
-        for root in roots:
-            resolved = root.resolve()
-            if resolved not in self.roots:
-                self.roots.append(resolved)
+        self.search_path: list[Root] = search_path(lib_dirs, include_shipped=include_shipped,
+                                                   use_env=use_env)
+        self.roots: list[Path] = [root.path for root in self.search_path]
         self.registry = registry
         self.parse_count = 0
         self._parser = parser
@@ -109,16 +103,21 @@ class Library:
             return ".".join(rel.parts)
         return None
 
-    def add_root(self, folder: str | os.PathLike, first: bool = True) -> None:
+    def add_source_root(self, folder: str | os.PathLike) -> None:
+        """Search `folder` last, for .dyad sources only: its Python plugins are never executed
+        (it was not named with -L or DYADC_PATH; see docs/security.md)."""
         folder = Path(folder).resolve()
         if folder in self.roots:
             return
-        if first:
-            self.roots.insert(0, folder)
-        else:
-            self.roots.append(folder)
+        self.search_path.append(Root(folder, "model folder", runs_code=False))
+        self.roots.append(folder)
         self._found.clear()
         self._lookup_cache.clear()
+
+    @property
+    def user_roots(self) -> list[Path]:
+        """The roots the user named (-L, DYADC_PATH), in order."""
+        return [root.path for root in self.search_path if root.origin in ("-L", LIBRARY_PATH_VARIABLE)]
 
     # --------------------------------------------------------------------------- lookup
 
@@ -210,25 +209,36 @@ class Library:
                          span: Span | None) -> FunctionImpl:
         if "." not in name and name in ELEMENTARY:
             return ELEMENTARY[name]
-        for candidate in self._candidates(name, package, file):
+        candidates = self._candidates(name, package, file)
+        for candidate in candidates:
             self._load_plugins_for(candidate)
             found = self.registry.get(candidate)
             if found is not None:
                 return found
+        skipped = [plugin for candidate in candidates for plugin in self._plugins_for(candidate, False)]
+        if skipped:
+            raise DyadError(f"unknown function `{name}`", span,
+                            hint=f"{skipped[0]} was not run: dyadc runs a library's Python only "
+                                 f"from folders named with -L DIR or {LIBRARY_PATH_VARIABLE}; if you "
+                                 f"trust it, add -L {skipped[0].parent}")
         suggestion = suggest_function(name, self.registry)
         raise DyadError(f"unknown function `{name}`", span,
                         hint=f"did you mean `{suggestion}`?" if suggestion else None)
 
-    def _load_plugins_for(self, qualified_name: str) -> None:
+    def _plugins_for(self, qualified_name: str, runs_code: bool) -> list[Path]:
+        """The plugin files for the package of `qualified_name` in the roots that may (or may
+        not) run code."""
         package_parts = qualified_name.split(".")[:-1]
-        for root in self.roots:
-            folder = root.joinpath(*package_parts)
-            plugin = folder / FUNCTION_PLUGIN_FILE
-            if plugin.is_file():
-                try:
-                    self.registry.load_plugin(plugin)
-                except Exception as exc:  # a broken plugin is a library error, not a crash
-                    raise DyadError(f"cannot load function plugin {plugin}: {exc}") from exc
+        plugins = (root.path.joinpath(*package_parts) / FUNCTION_PLUGIN_FILE
+                   for root in self.search_path if root.runs_code == runs_code)
+        return [plugin for plugin in plugins if plugin.is_file()]
+
+    def _load_plugins_for(self, qualified_name: str) -> None:
+        for plugin in self._plugins_for(qualified_name, True):
+            try:
+                self.registry.load_plugin(plugin)
+            except Exception as exc:  # a broken plugin is a library error, not a crash
+                raise DyadError(f"cannot load function plugin {plugin}: {exc}") from exc
 
     # ---------------------------------------------------------------------------- listing
 
@@ -266,8 +276,9 @@ def resolve_model(spec: str, library: Library) -> Resolved:
             raise DyadError(f"model file `{file_part}` not found")
         package = library.package_of_file(path)
         if package is None:
-            # A file outside the library path: its folder becomes a root so siblings resolve.
-            library.add_root(path.resolve().parent)
+            # A file outside the library path: its folder is searched for sibling sources, but
+            # its Python is not run (only folders the user named run code).
+            library.add_source_root(path.resolve().parent)
             package = ""
         parsed = library.parse(path)
         components = [d for d in parsed.definitions if isinstance(d, ast.ComponentDef)]
@@ -287,8 +298,9 @@ def resolve_model(spec: str, library: Library) -> Resolved:
         return Resolved(qualify(package, definition.name), definition, package, parsed)
     found = library.find(spec)
     if found is None:
-        roots = ", ".join(str(r) for r in library.roots)
-        raise DyadError(f"no model `{spec}` on the library path ({roots})")
+        raise DyadError(f"no model `{spec}` on the library path ({describe(library.search_path)})",
+                        hint=f"add the folder that holds its top-level package with -L DIR or "
+                             f"{LIBRARY_PATH_VARIABLE}")
     if not isinstance(found.definition, ast.ComponentDef):
         raise DyadError(f"`{spec}` is not a component", found.definition.span)
     return found

@@ -1,4 +1,4 @@
-"""Library path: lookup order, laziness, spec forms, DYAD_PATH, function plugins."""
+"""Library path: lookup order, laziness, spec forms, DYADC_PATH, function plugins."""
 from __future__ import annotations
 
 import pytest
@@ -117,7 +117,7 @@ def test_spec_forms(sources):
         flatten_model("No.Such.Model")
 
 
-def test_dyad_path_environment_variable(sources, monkeypatch):
+def test_dyadc_path_environment_variable(sources, monkeypatch):
     sources.write("EnvPkg/Probe.dyad", """
         component Probe
           variable z::Real
@@ -125,7 +125,7 @@ def test_dyad_path_environment_variable(sources, monkeypatch):
           z = 4
         end
     """)
-    monkeypatch.setenv("DYAD_PATH", str(sources.root))
+    monkeypatch.setenv("DYADC_PATH", str(sources.root))
     assert flatten_model("EnvPkg.Probe").variables[0].name == "z"
 
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import sympy
 
 from compiler.flatten import check_balance, flatten_model
-from compiler.library import PROJECT_COMPONENTS
+from compiler.library_path import shipped_library_root
 from tests.flatten.test_connect import PLANAR
 
 SOIL = "MultibodyComponents.PlanarMechanics.examples.excavator.SoilContact"
@@ -15,7 +15,7 @@ SOIL = "MultibodyComponents.PlanarMechanics.examples.excavator.SoilContact"
 
 def test_seed_source_is_unchanged_in_the_library():
     seed = Path("/work/shared/seeds/000_f4faa56a3475f571.txt")
-    library_file = PROJECT_COMPONENTS / "MultibodyComponents/PlanarMechanics/examples/excavator/SoilContact.dyad"
+    library_file = shipped_library_root() / "MultibodyComponents/PlanarMechanics/examples/excavator/SoilContact.dyad"
     if seed.is_file():
         text = seed.read_text(encoding="utf-8")
         source = text.split("Source\n\ndyad\n", 1)[1].split("\nFlattened Source", 1)[0]

@@ -1,5 +1,5 @@
 """Golden-trajectory tests: every metadata test case against its golden, and the machinery itself
-(corruption is caught and located, goldens are written only on an explicit update)."""
+(corruption is caught and located, goldens are written only on an explicit --accept)."""
 from __future__ import annotations
 
 import functools
@@ -29,9 +29,9 @@ def _compiled(model: str):
 
 # ------------------------------------------------------------------ every case of the library
 
-@pytest.mark.parametrize("case", discover(), ids=lambda c: c.label)
+@pytest.mark.parametrize("case", discover(use_env=False), ids=lambda c: c.label)
 def test_metadata_case_matches_its_golden(case):
-    report = golden.run_case(_compiled(case.model), case)
+    report = golden.run_case(_compiled(case.model), case, HERE)
     assert report.passed, report.format()
 
 
@@ -59,17 +59,17 @@ def decay(tmp_path):
     return case, compilation, tmp_path
 
 
-def test_running_without_update_never_writes_a_golden(decay):
+def test_running_without_accept_never_writes_a_golden(decay):
     case, compilation, directory = decay
     report = golden.run_case(compilation, case, directory)
     assert not report.passed
-    assert "no golden file" in report.error and "--update" in report.error
+    assert "no golden file" in report.error and f"--golden {directory} --accept" in report.error
     assert os.listdir(directory) == []
 
 
 def test_update_writes_the_listed_signals_and_the_run_then_passes(decay):
     case, compilation, directory = decay
-    assert golden.update_case(compilation, case, directory).passed
+    assert golden.accept_case(compilation, case, directory).passed
     stored = read_golden(golden_path(directory, case))
     assert list(stored.columns) == ["x", "y"]
     np.testing.assert_allclose(stored.time, np.linspace(0, 1, 11), rtol=0, atol=1e-15)
@@ -81,7 +81,7 @@ def test_update_writes_the_listed_signals_and_the_run_then_passes(decay):
 
 def test_a_corrupted_golden_is_caught_naming_signal_time_and_values(decay):
     case, compilation, directory = decay
-    golden.update_case(compilation, case, directory)
+    golden.accept_case(compilation, case, directory)
     path = golden_path(directory, case)
     stored = read_golden(path)
     row = 5                                          # t = 0.5
@@ -98,34 +98,33 @@ def test_a_corrupted_golden_is_caught_naming_signal_time_and_values(decay):
     assert [c.name for c in report.signals if not c.passed] == ["y"]
     assert Path(path).read_bytes() == before                      # a failing run does not rewrite
 
-    assert golden.update_case(compilation, case, directory).passed   # only --update repairs it
+    assert golden.accept_case(compilation, case, directory).passed   # only --accept repairs it
     assert golden.run_case(compilation, case, directory).passed
 
 
 def test_update_refuses_to_write_when_the_final_value_disagrees(decay):
     case, compilation, directory = decay
     wrong = type(case)(**{**case.__dict__, "final": {"x": 0.2}})
-    report = golden.update_case(compilation, wrong, directory)
+    report = golden.accept_case(compilation, wrong, directory)
     assert not report.passed and "NOT written" in report.format()
     assert os.listdir(directory) == []
 
 
-def test_main_test_exit_status_and_explicit_update(decay, monkeypatch, capsys):
+def test_main_test_exit_status_and_explicit_accept(decay, capsys):
     _, _, directory = decay
-    monkeypatch.setattr(golden, "GOLDEN_DIR", directory)
-    assert golden.main_test(DECAY, [], update=False) == 1
+    assert golden.main_test(DECAY, [], golden_dir=directory) == 1
     assert os.listdir(directory) == []
-    assert golden.main_test(DECAY, [], update=True) == 0
+    assert golden.main_test(DECAY, [], golden_dir=directory, accept=True) == 0
     assert os.listdir(directory) == ["Decay.decay.csv"]
-    assert golden.main_test(DECAY, [], update=False) == 0
+    assert golden.main_test(DECAY, [], golden_dir=directory) == 0
     out = capsys.readouterr().out
-    assert "1 passed, 0 failed" in out and "1 updated, 0 failed" in out
+    assert "1 passed, 0 failed" in out and "1 accepted, 0 failed" in out
 
 
 def test_a_model_without_cases_is_an_error(tmp_path, capsys):
     model = tmp_path / "Plain.dyad"
     model.write_text("component Plain\n  variable x::Real\nrelations\n  initial x = 1\n  der(x) = -x\nend\n")
-    assert golden.main_test(str(model), [], update=False) == 1
+    assert golden.main_test(str(model), [], golden_dir=tmp_path) == 1
     assert "declares no test cases" in capsys.readouterr().err
 
 
@@ -205,8 +204,8 @@ def test_discovery_mode_reports_a_model_that_does_not_compile_and_runs_the_rest(
         'component Broken\n  part = NoSuchThing()\nrelations\n'
         'metadata {"Dyad": {"tests": {"c": {"stop": 1, "atol": 1, "expect": {"signals": ["x"]}}}}}\nend\n')
     only_this_library = [c for c in discover([str(library)]) if c.model in ("Broken", "Decay")]
-    monkeypatch.setattr(golden, "discover", lambda lib_dirs: only_this_library)
-    reports = golden.run_tests(None, [str(library)], update=True, golden_dir=tmp_path)
+    monkeypatch.setattr(golden, "discover", lambda lib_dirs, **scope: only_this_library)
+    reports = golden.run_tests(None, [str(library)], accept=True, golden_dir=tmp_path)
     by_model = {r.case.model: r for r in reports}
     assert not by_model["Broken"].passed and "Broken.dyad:2:3" in by_model["Broken"].error
     assert by_model["Decay"].passed and (tmp_path / "Decay.decay.csv").is_file()
@@ -215,6 +214,6 @@ def test_discovery_mode_reports_a_model_that_does_not_compile_and_runs_the_rest(
 def test_a_nominal_for_an_unknown_that_does_not_exist_is_a_located_error(decay):
     case, compilation, directory = decay
     wrong = type(case)(**{**case.__dict__, "nominal": {"zz": 2.0}})
-    report = golden.update_case(compilation, wrong, directory)
+    report = golden.accept_case(compilation, wrong, directory)
     assert not report.passed and "nominal given for `zz`" in report.error
     assert "Decay.dyad:16:7" in report.error
