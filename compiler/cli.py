@@ -13,7 +13,7 @@ dyadc compiles acausal models written in a Dyad-like language into CasADi functi
 simulates them with SUNDIALS IDAS.
 
 A MODEL is `path/File.dyad` (the component named like the file), `path/File.dyad:Name`,
-or a qualified name on the library path (components/, --lib DIR, $DYAD_PATH), e.g.
+or a qualified name on the library path (the shipped library, -L DIR, $DYADC_PATH), e.g.
 MultibodyComponents.PlanarMechanics.examples.excavator.Excavator.
 """
 
@@ -26,10 +26,13 @@ examples:
 """
 
 
+LIB_HELP = ("library folder, searched after the shipped library and before $DYADC_PATH "
+            "(repeatable); its dyad_functions.py files may run")
+
+
 def _add_model(p: argparse.ArgumentParser) -> None:
     p.add_argument("model", metavar="MODEL", help="model file, file:Name, or qualified name")
-    p.add_argument("--lib", action="append", default=[], metavar="DIR",
-                   help="extra library directory (repeatable)")
+    p.add_argument("-L", "--lib", dest="lib", action="append", default=[], metavar="DIR", help=LIB_HELP)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -118,8 +121,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("test", help="run the golden-trajectory test cases of the components' metadata")
     p.add_argument("model", metavar="MODEL", nargs="?", help="only this model (default: every model with tests)")
-    p.add_argument("--lib", action="append", default=[], metavar="DIR")
-    p.add_argument("--update", action="store_true", help="rewrite the golden files (never done implicitly)")
+    p.add_argument("-L", "--lib", dest="lib", action="append", default=[], metavar="DIR", help=LIB_HELP)
+    p.add_argument("--golden", metavar="DIR", help="folder of the golden CSV files "
+                   "(default: tests/golden in the current directory)")
+    p.add_argument("--accept", "--update", dest="accept", action="store_true",
+                   help="write the golden files from a run at rtol 1e-10, creating missing ones "
+                        "(never done without this flag)")
     p.set_defaults(run=_cmd_test)
 
     p = sub.add_parser("animate", help="simulate a planar model and write a side-view GIF")
@@ -235,7 +242,7 @@ def _cmd_sweep(args) -> int:
 
 def _cmd_test(args) -> int:
     from compiler.golden import main_test
-    return main_test(args.model, args.lib, args.update)
+    return main_test(args.model, args.lib, golden_dir=args.golden, accept=args.accept)
 
 
 def _cmd_animate(args) -> int:
