@@ -65,26 +65,36 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("compile", help="write a standalone Python module for a model")
     _add_model(p)
     p.add_argument("-o", "--output-dir", default="generated", metavar="DIR")
-    p.add_argument("--name", help="module name (default: the model name in snake_case)")
+    p.add_argument("--name", help="module name (default: the qualified model name in snake_case, "
+                                  "packages joined by `__`, e.g. component_tests__pendulum)")
     p.add_argument("--standalone", action="store_true",
                    help="copy the runtime package beside the module (then it needs only casadi and numpy)")
     p.set_defaults(run=_cmd_compile)
 
     p = sub.add_parser("simulate", help="compile and simulate a model")
     _add_model(p)
-    p.add_argument("--start", type=float, default=0.0, metavar="T0")
-    p.add_argument("--stop", type=float, required=True, metavar="T")
-    p.add_argument("--rtol", type=float, default=1e-6, metavar="R")
-    p.add_argument("--atol", type=float, default=1e-6, metavar="A")
+    p.add_argument("--start", type=float, default=0.0, metavar="T0", help="start time (default 0)")
+    p.add_argument("--stop", type=float, required=True, metavar="T", help="stop time, after --start")
+    p.add_argument("--rtol", type=float, default=1e-6, metavar="R", help="relative tolerance > 0 (default 1e-6)")
+    p.add_argument("--atol", type=float, default=1e-6, metavar="A", help="absolute tolerance > 0 (default 1e-6)")
     grid = p.add_mutually_exclusive_group()
-    grid.add_argument("--points", type=int, default=501, metavar="N", help="output points (default 501)")
-    grid.add_argument("--saveat", type=float, metavar="DT", help="output interval instead of --points")
-    p.add_argument("-p", dest="params", action="append", default=[], metavar="NAME=VALUE",
-                   help="override a parameter by dotted path (repeatable)")
+    grid.add_argument("--points", type=int, default=501, metavar="N",
+                      help="N evenly spaced output times (default 501)")
+    grid.add_argument("--saveat", metavar="TIMES",
+                      help="output times: DT (every DT, --stop included), a list T1,T2,... or a range "
+                           "FIRST:STEP:LAST")
+    p.add_argument("-p", dest="params", action="append", default=[], metavar="NAME=VALUE[UNIT]",
+                   help="override a parameter by dotted path, optionally with a unit converted to the "
+                        "declared one, e.g. -p L=100mm (repeatable)")
     p.add_argument("--vars", nargs="+", metavar="NAME", help="signals to write (default: all)")
-    p.add_argument("--output", metavar="FILE.csv", help="write the result as CSV")
-    p.add_argument("--plot", metavar="FILE.png", help="plot the result")
+    p.add_argument("--output", metavar="FILE",
+                   help="write the result; the extension picks the format: .csv, .parquet, .mat, .npz")
+    p.add_argument("--plot", metavar="FILE.png", help="plot the result, one subplot per unit "
+                                                      "(.png, .pdf, .svg, ...)")
     p.add_argument("--codegen", choices=["c"], help="compile the model to C with gcc")
+    p.add_argument("--max-output-values", type=int, metavar="N",
+                   help="refuse runs storing more than N output values (times x signals; default "
+                        "$DYADC_MAX_OUTPUT_VALUES or 10000000)")
     p.set_defaults(run=_cmd_simulate)
 
     p = sub.add_parser("sweep", help="run a model over a grid or random samples of its parameters "
@@ -129,10 +139,17 @@ def build_parser() -> argparse.ArgumentParser:
                         "(never done without this flag)")
     p.set_defaults(run=_cmd_test)
 
-    p = sub.add_parser("animate", help="simulate a planar model and write a side-view GIF")
+    p = sub.add_parser("animate", help="simulate a planar model and write a side-view GIF or MP4")
     _add_model(p)
-    p.add_argument("--stop", type=float, required=True, metavar="T")
-    p.add_argument("--output", metavar="FILE.gif", help="default: <Model>.gif")
+    p.add_argument("--stop", type=float, required=True, metavar="T", help="simulated time span [0, T]")
+    p.add_argument("--output", metavar="FILE", help="default: <Model>.gif (or .mp4 with --format mp4)")
+    p.add_argument("--format", choices=["gif", "mp4"], help="default: from --output's extension, else gif; "
+                                                            "mp4 needs ffmpeg on PATH")
+    p.add_argument("--fps", type=int, default=12, metavar="N", help="frames per second (default 12)")
+    length = p.add_mutually_exclusive_group()
+    length.add_argument("--frames", type=int, metavar="N", help="number of frames (default 120)")
+    length.add_argument("--duration", type=float, metavar="SECONDS",
+                        help="length of the animation; frames = duration x fps")
     p.set_defaults(run=_cmd_animate)
 
     p = sub.add_parser("generate", help="regenerate the committed modules in generated/")
@@ -161,15 +178,16 @@ def _cmd_fmt(args) -> int:
 
 
 def _cmd_check(args) -> int:
-    from compiler.flatten import check_balance, check_library, flatten_model, summarize
+    from compiler.flatten import check_library, flatten_model, summarize
+    from compiler.model_check import assess
     if os.path.isdir(args.model):
         problems = check_library(args.model)
         for line in problems:
             print(line)
         return 1 if any("error" in line for line in problems) else 0
     flat = flatten_model(args.model, args.lib)
-    check_balance(flat)
-    print(summarize(flat))
+    verdict = assess(flat)           # the same checks as `simulate` runs before compiling
+    print(summarize(flat, verdict))
     return 0
 
 
@@ -187,45 +205,54 @@ def _cmd_inspect(args) -> int:
 
 
 def _cmd_compile(args) -> int:
+    from compiler.cli_outputs import check_output_folder
     from compiler.codegen import write_module
+    from compiler.generate import module_name
     from compiler.pipeline import compile_spec
+    check_output_folder(args.output_dir, "-o")      # before the compile it would otherwise waste
     compilation = compile_spec(args.model, args.lib)
-    name = args.name or _snake(compilation.model.name.split(".")[-1])
+    name = args.name or module_name(compilation.model.name)
     path = write_module(compilation.model, name, args.output_dir, standalone=args.standalone)
     print(f"wrote {path}")
     return 0
 
 
 def _cmd_simulate(args) -> int:
+    from compiler import cli_options as options
     from compiler.api import simulate_compiled
+    from compiler.cli_outputs import check_simulate_outputs, write_result
     from compiler.pipeline import compile_spec
-    params = dict(_parse_assignment(text) for text in args.params)
+    # Every option is checked before the compiler runs: a typo must cost neither a compile nor a run.
+    options.check_span(args.start, args.stop)
+    options.check_positive("--rtol", args.rtol)
+    options.check_positive("--atol", args.atol)
+    limit = options.max_output_values(args.max_output_values)
+    saveat = None if args.saveat is None else options.parse_saveat(args.saveat, args.start, args.stop)
+    times = args.points if saveat is None else saveat.count()
+    if saveat is None:
+        options.check_points(args.points)
+    options.check_output_size(times, 0, limit, f"--saveat {args.saveat}" if saveat else f"--points {times}")
+    overrides = [options.parse_override(text) for text in args.params]
+    check_simulate_outputs(args.output, args.plot)
     compilation = compile_spec(args.model, args.lib)
+    model = compilation.model
+    options.check_output_size(times, len(model.output_names), limit, f"{times:,} output times of {model.name}")
+    units = model.metadata.get("units", {})
+    params = options.convert_overrides(overrides, model.parameters, units)
     if args.codegen == "c":
         import time
         from compiler.ccodegen import use_c_code
         began = time.perf_counter()
         compilation.model = use_c_code(compilation.model)
         compilation.timings["codegen c"] = time.perf_counter() - began
-    saveat = None
-    if args.saveat is not None:
-        if args.saveat <= 0:
-            raise DyadError(f"--saveat must be positive, got {args.saveat}")
-        import numpy as np
-        saveat = np.arange(args.start, args.stop + 0.5 * args.saveat, args.saveat)
-        saveat[-1] = min(saveat[-1], args.stop)
     result = simulate_compiled(compilation, args.stop, start=args.start, rtol=args.rtol, atol=args.atol,
-                               points=args.points, saveat=saveat, params=params)
+                               points=args.points, saveat=None if saveat is None else saveat.grid(),
+                               params=params)
     names = args.vars or None
     if names:
         for n in names:
             result[n]           # unknown names fail before anything is written
-    if args.output:
-        Path(args.output).parent.mkdir(parents=True, exist_ok=True)
-        result.to_csv(args.output, names)
-    if args.plot:
-        Path(args.plot).parent.mkdir(parents=True, exist_ok=True)
-        result.plot(args.plot, names)
+    write_result(result, names or result.names, units, model.name, args.output, args.plot)
     stats = result.stats
     print(f"simulated {compilation.model.name} from {args.start:g} to {args.stop:g} s: "
           f"{stats.get('steps')} steps, compile {stats.get('compile_time', 0):.2f} s, "
@@ -247,7 +274,8 @@ def _cmd_test(args) -> int:
 
 def _cmd_animate(args) -> int:
     from compiler.render.animate import main_animate
-    return main_animate(args.model, args.lib, args.stop, args.output)
+    return main_animate(args.model, args.lib, args.stop, args.output, fps=args.fps, frames=args.frames,
+                        duration=args.duration, video_format=args.format)
 
 
 def _cmd_generate(args) -> int:
@@ -259,31 +287,12 @@ def _cmd_generate(args) -> int:
 
 # ------------------------------------------------------------------------------------------ helpers
 
-def _parse_assignment(text: str) -> tuple[str, float]:
-    name, sep, value = text.partition("=")
-    if not sep or not name.strip():
-        raise DyadError(f"bad parameter override `{text}`", hint="write -p NAME=VALUE, e.g. -p boom.m=200")
-    try:
-        return name.strip(), float(value)
-    except ValueError:
-        raise DyadError(f"bad parameter override `{text}`: `{value}` is not a number") from None
-
-
 def _print_final(result, names) -> None:
     names = names or result.names
     width = max((len(n) for n in names), default=4)
     print(f"{'time':<{width}}  {result.time[-1]:.10g}")
     for n in names:
         print(f"{n:<{width}}  {result[n][-1]:.10g}")
-
-
-def _snake(name: str) -> str:
-    out = []
-    for i, ch in enumerate(name):
-        if ch.isupper() and i and not name[i - 1].isupper():
-            out.append("_")
-        out.append(ch.lower())
-    return "".join(out)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -300,7 +309,10 @@ def main(argv: list[str] | None = None) -> int:
     except Exception as err:          # a bug of ours: say so briefly, the traceback only on request
         if os.environ.get("DYADC_DEBUG"):
             raise
-        from compiler.runtime import ModelInputError, SimulationFailed
+        from compiler.runtime import ModelInputError, SimulationFailed, SimulationInterrupted
+        if isinstance(err, SimulationInterrupted):
+            print(str(err), file=sys.stderr)
+            return 130
         if isinstance(err, (ModelInputError, SimulationFailed)):
             print(f"error: {err}", file=sys.stderr)
             return 1

@@ -1,6 +1,9 @@
-"""Side-view GIF of a planar multibody simulation, drawn from the parts `planar.discover` finds."""
+"""Side-view GIF or MP4 of a planar multibody simulation, drawn from the parts `planar.discover`
+finds. The figure is a bare matplotlib Figure on its own Agg canvas: pyplot is never imported, so
+the user's matplotlib backend is left as it was."""
 from __future__ import annotations
 
+import math
 import time as clock
 from dataclasses import dataclass
 from typing import Sequence
@@ -9,7 +12,7 @@ import numpy as np
 
 from compiler.balance import span_from_text
 from compiler.errors import DyadError
-from compiler.render import planar
+from compiler.render import planar, video
 from compiler.render.atomic import write_atomically
 
 LINK_COLOR = "#f2a900"
@@ -19,18 +22,10 @@ BARREL_COLOR = "#3a3a3a"
 ROD_COLOR = "#8c8c8c"
 TRAIL_COLOR = "#d62728"
 DEFAULT_PAYLOAD_COLOR = (0.47, 0.35, 0.2, 1.0)
-GIF_COLORS = 96
 # The barrel covers this share of the anchor distance at zero extension; the rest is visible rod.
 BARREL_SHARE_OF_RETRACTED = 0.75
 # The largest payload disc (at capacity) has this radius relative to the carrying link's length.
 PAYLOAD_RADIUS_SHARE = 0.4
-
-
-def _pyplot():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
 
 
 @dataclass
@@ -66,32 +61,31 @@ def prepare(flat, result) -> tuple[planar.PlanarScene, planar.FrameTracks]:
     return scene, tracks
 
 
-def animate(compilation, result, path, *, fps: int = 12, frames: int = 120, dpi: int = 100) -> dict:
-    """Write a GIF of `result` (frames evenly spaced over its time span) to `path`, atomically.
+def animate(compilation, result, path, *, fps: int = 12, frames: int = 120, dpi: int = 100,
+            video_format: str | None = None) -> dict:
+    """Write a GIF or MP4 (`video_format`, default from the extension of `path`) of `result`,
+    frames evenly spaced over its time span, to `path`, atomically.
 
     `compilation` is an api.Compilation or a FlatSystem. Returns what was drawn (part counts,
     frame count)."""
     flat = getattr(compilation, "flat", compilation)
-    if frames < 1:
-        raise DyadError(f"an animation needs at least one frame, got {frames}")
-    if fps < 1:
-        raise DyadError(f"frames per second must be positive, got {fps}")
+    chosen = video.format_of(path, video_format)
+    video.check_rate(fps, frames)
+    if chosen == "mp4":
+        video.ffmpeg()
     scene, tracks = prepare(flat, result)
     times = np.linspace(float(result.time[0]), float(result.time[-1]), frames)
-    plt = _pyplot()
-    fig, draw_frame, moving = _build_figure(plt, flat, scene, tracks, result)
-    try:
-        images = _render_frames(fig, draw_frame, moving, times, dpi)
-    finally:
-        plt.close(fig)
-    write_atomically(path, lambda temp_path: _save_gif(images, temp_path, fps))
+    fig, draw_frame, moving = _build_figure(flat, scene, tracks, result)
+    render = _frame_renderer(fig, draw_frame, moving, dpi)
+    write_atomically(path, lambda temp_path: video.write_video(temp_path, chosen, render, times, fps))
     return {"frames": frames, "fps": fps, **scene.summary()}
 
 
-def _render_frames(fig, draw_frame, moving: list, times: np.ndarray, dpi: int) -> list:
-    """One image per time. The static part (axes, ticks, boxes) is drawn once and restored for
-    every frame; only the moving artists are redrawn on top (blitting), which keeps a 120-frame
-    scene at a few seconds instead of redrawing every tick label each frame."""
+def _frame_renderer(fig, draw_frame, moving: list, dpi: int):
+    """A function from times to one RGB image per time. The static part (axes, ticks, boxes) is
+    drawn once and restored for every frame; only the moving artists are redrawn on top
+    (blitting), which keeps a 120-frame scene at a few seconds instead of redrawing every tick
+    label each frame."""
     from PIL import Image
 
     fig.set_dpi(dpi)
@@ -102,43 +96,30 @@ def _render_frames(fig, draw_frame, moving: list, times: np.ndarray, dpi: int) -
     background = canvas.copy_from_bbox(fig.bbox)
     in_order = sorted(moving, key=lambda artist: artist.get_zorder())
     size = canvas.get_width_height()
-    images = []
-    for t in times:
-        canvas.restore_region(background)
-        draw_frame(float(t))
-        for artist in in_order:
-            artist.axes.draw_artist(artist)
-        images.append(Image.frombuffer("RGBA", size, bytes(canvas.buffer_rgba()), "raw", "RGBA", 0, 1)
-                      .convert("RGB"))
-    return images
+
+    def render(times):
+        for t in times:
+            canvas.restore_region(background)
+            draw_frame(float(t))
+            for artist in in_order:
+                artist.axes.draw_artist(artist)
+            yield (Image.frombuffer("RGBA", size, bytes(canvas.buffer_rgba()), "raw", "RGBA", 0, 1)
+                   .convert("RGB"))
+    return render
 
 
-def _save_gif(images: list, path: str, fps: int) -> None:
-    """Pillow's animated GIF, as matplotlib's PillowWriter writes it, but with one palette taken
-    from the first, middle and last frame for all frames: quantizing every frame on its own costs
-    most of the run time and makes colours flicker. Pillow merges a frame equal to the previous
-    one; the time label differs on every frame, so the frame count is the one asked for."""
-    from PIL import Image
-
-    width, height = images[0].size
-    samples = [images[0], images[len(images) // 2], images[-1]]
-    sheet = Image.new("RGB", (width, height * len(samples)))
-    for row, image in enumerate(samples):
-        sheet.paste(image, (0, height * row))
-    palette = sheet.quantize(colors=GIF_COLORS, method=Image.Quantize.MEDIANCUT)
-    frames = [image.quantize(palette=palette, dither=Image.Dither.NONE) for image in images]
-    frames[0].save(path, format="GIF", save_all=True, append_images=frames[1:], duration=round(1000 / fps),
-                   loop=0)
-
-
-def _build_figure(plt, flat, scene: planar.PlanarScene, tracks: planar.FrameTracks, result):
+def _build_figure(flat, scene: planar.PlanarScene, tracks: planar.FrameTracks, result):
     """The figure, the function that moves its artists to a time, and the moving artists."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
     from matplotlib.patches import Circle, Polygon
 
     (x_lo, x_hi), (y_lo, y_hi) = _limits(scene, tracks)
     width = 8.0
     height = min(max(width * (y_hi - y_lo) / (x_hi - x_lo), 3.0), 9.0)
-    fig, ax = plt.subplots(figsize=(width, height))
+    fig = Figure(figsize=(width, height))
+    FigureCanvasAgg(fig)
+    ax = fig.subplots()
     ax.set_xlim(x_lo, x_hi)
     ax.set_ylim(y_lo, y_hi)
     ax.set_aspect("equal", adjustable="box")
@@ -256,19 +237,38 @@ def _limits(scene: planar.PlanarScene, tracks: planar.FrameTracks):
 
 
 def main_animate(model_spec: str, lib_dirs: Sequence[str], stop: float, output: str | None = None, *,
-                 fps: int = 12, frames: int = 120) -> int:
-    """`dyadc animate`: compile, simulate over [0, stop] and write the side-view GIF."""
+                 fps: int = 12, frames: int | None = None, duration: float | None = None,
+                 video_format: str | None = None) -> int:
+    """`dyadc animate`: compile, simulate over [0, stop] and write the side view. The length is
+    `frames`, or `duration` seconds at `fps` (default 120 frames); everything is checked before
+    the compile."""
     from compiler import api
+    from compiler.cli_outputs import check_output_file, check_writable_folder
 
-    if not stop > 0:
-        raise DyadError(f"--stop must be positive, got {stop}")
+    if not (math.isfinite(stop) and stop > 0):
+        raise DyadError(f"--stop must be a positive finite time, got {stop}")
+    if duration is not None:
+        if frames is not None:
+            raise DyadError("give --frames or --duration, not both")
+        if not (math.isfinite(duration) and duration > 0):
+            raise DyadError(f"--duration must be a positive finite number of seconds, got {duration}")
+        frames = max(1, round(duration * fps))
+    frames = 120 if frames is None else frames
+    video.check_rate(fps, frames)
+    chosen = video.format_of(output or f"animation.{video_format or 'gif'}", video_format)
+    if chosen == "mp4":
+        video.ffmpeg()
+    if output:
+        check_output_file(output, "--output")
+    else:
+        check_writable_folder(".", "the animation's default output folder")
     started = clock.perf_counter()
     compilation = api.compile(model_spec, list(lib_dirs))
     compiled = clock.perf_counter()
     result = api.simulate_compiled(compilation, stop, rtol=1e-6, points=max(10 * frames + 1, 501))
     simulated = clock.perf_counter()
-    target = output or f"{model_title(compilation.flat)}.gif"
-    drawn = animate(compilation, result, target, fps=fps, frames=frames)
+    target = output or f"{model_title(compilation.flat)}.{chosen}"
+    drawn = animate(compilation, result, target, fps=fps, frames=frames, video_format=chosen)
     finished = clock.perf_counter()
     parts = ", ".join(f"{n} {kind}" for kind, n in drawn.items() if kind not in ("frames", "fps") and n)
     print(f"wrote {target}: {drawn['frames']} frames at {fps} fps ({parts}); compile {compiled - started:.2f} s, "

@@ -1,0 +1,219 @@
+"""Checks of `dyadc simulate` options before any compiling: numbers finite and in range, output
+grids of a bounded size, `-p NAME=VALUE[UNIT]` read and converted to the declared unit.
+
+Every refusal is a DyadError (rendered `error: ...`, exit 1); none of these options has a source
+location, so the message names the option and the value instead.
+"""
+from __future__ import annotations
+
+import math
+import os
+import re
+from dataclasses import dataclass
+from typing import Mapping
+
+import numpy as np
+
+from compiler.errors import DyadError
+
+# Output values (time points x signals) a run may allocate unless the user raises the limit.
+DEFAULT_MAX_OUTPUT_VALUES = 10_000_000
+MAX_OUTPUT_VALUES_ENV = "DYADC_MAX_OUTPUT_VALUES"
+
+_NUMBER = re.compile(r"\s*([+-]?(?:(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?|inf(?:inity)?|nan))\s*(.*?)\s*$",
+                     re.IGNORECASE)
+
+
+def max_output_values(option: int | None) -> int:
+    """The limit from `--max-output-values`, else $DYADC_MAX_OUTPUT_VALUES, else the default."""
+    if option is not None:
+        if option < 1:
+            raise DyadError(f"--max-output-values must be at least 1, got {option}")
+        return option
+    text = os.environ.get(MAX_OUTPUT_VALUES_ENV)
+    if text is None:
+        return DEFAULT_MAX_OUTPUT_VALUES
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise DyadError(f"${MAX_OUTPUT_VALUES_ENV} must be a positive integer, got `{text}`")
+    return value
+
+
+def check_finite(option: str, value: float) -> None:
+    if not math.isfinite(value):
+        raise DyadError(f"{option} must be a finite number, got {value}")
+
+
+def check_positive(option: str, value: float) -> None:
+    check_finite(option, value)
+    if not value > 0:
+        raise DyadError(f"{option} must be positive, got {value:g}",
+                        hint="tolerances are relative (--rtol) or absolute (--atol) errors, e.g. 1e-6")
+
+
+def check_span(start: float, stop: float) -> None:
+    check_finite("--start", start)
+    check_finite("--stop", stop)
+    if not stop > start:
+        raise DyadError(f"--stop {stop:g} must be after --start {start:g}")
+
+
+def check_output_size(points: int, signals: int, limit: int, what: str) -> None:
+    """Refuse a grid of `points` times carrying `signals` columns besides time beyond `limit`."""
+    columns = signals + 1
+    estimate = points * columns
+    if estimate > limit:
+        size = f"{points:,} times x {columns} columns" if signals else "before any signal is counted"
+        raise DyadError(f"{what} would store {estimate:,} output values ({size}), more than the limit "
+                        f"of {limit:,}",
+                        hint=f"use fewer output times (--points, a coarser --saveat), fewer signals, or "
+                             f"raise the limit with --max-output-values or ${MAX_OUTPUT_VALUES_ENV}")
+
+
+def check_points(points: int) -> None:
+    if points < 2:
+        raise DyadError(f"--points must be at least 2, got {points}")
+
+
+# ---------------------------------------------------------------------------------------- --saveat
+
+@dataclass(frozen=True)
+class SaveAt:
+    """Output times: a list, a `start:step:stop` range, or (a single number) every `step` from
+    --start, with --stop always included. `count()` is known before anything is allocated."""
+    text: str
+    times: tuple[float, ...] = ()
+    first: float = 0.0
+    step: float = 0.0
+    last: float = 0.0
+    every: bool = False          # a single number: every `step` over the whole span
+
+    def count(self) -> int:
+        if self.times:
+            return len(self.times)
+        steps = self._steps()
+        short_of_last = self.first + self.step * steps < self.last
+        return steps + 1 + int(self.every and short_of_last)
+
+    def _steps(self) -> int:
+        # the relative slack keeps a last point that rounding puts a hair beyond `last`
+        return int(math.floor((self.last - self.first) / self.step * (1 + 1e-12)))
+
+    def grid(self) -> np.ndarray:
+        if self.times:
+            return np.array(sorted(set(self.times)), dtype=float)
+        times = np.minimum(self.first + self.step * np.arange(self._steps() + 1), self.last)
+        if self.every and times[-1] < self.last:
+            times = np.append(times, self.last)
+        return np.unique(times)
+
+
+def parse_saveat(text: str, start: float, stop: float) -> SaveAt:
+    """`--saveat DT`, `--saveat T1,T2,...` or `--saveat FIRST:STEP:LAST`, checked against the span."""
+    if "," in text:
+        times = tuple(_saveat_number(part, text) for part in text.split(",") if part.strip())
+        if not times:
+            raise DyadError(f"--saveat `{text}` lists no times")
+        for t in times:
+            _inside(t, start, stop, text)
+        return SaveAt(text, times=times)
+    if ":" in text:
+        parts = text.split(":")
+        if len(parts) != 3:
+            raise DyadError(f"--saveat `{text}` is not a range",
+                            hint="write FIRST:STEP:LAST, e.g. --saveat 0:0.1:2 (or a list 0,0.5,2)")
+        first, step, last = (_saveat_number(part, text) for part in parts)
+        if not step > 0:
+            raise DyadError(f"--saveat `{text}`: the step must be positive, got {step:g}")
+        if last < first:
+            raise DyadError(f"--saveat `{text}`: the range ends ({last:g}) before it begins ({first:g})")
+        _inside(first, start, stop, text)
+        _inside(last, start, stop, text)
+        return SaveAt(text, first=first, step=step, last=last)
+    step = _saveat_number(text, text)
+    if not step > 0:
+        raise DyadError(f"--saveat interval must be positive, got {step:g}")
+    return SaveAt(text, first=start, step=step, last=stop, every=True)
+
+
+def _saveat_number(part: str, text: str) -> float:
+    try:
+        value = float(part)
+    except ValueError:
+        raise DyadError(f"--saveat `{text}`: `{part.strip()}` is not a number",
+                        hint="--saveat DT (every DT), --saveat 0,0.5,1.25 (a list) or "
+                             "--saveat 0:0.25:2 (FIRST:STEP:LAST)") from None
+    if not math.isfinite(value):
+        raise DyadError(f"--saveat `{text}`: {value} is not a finite time")
+    return value
+
+
+def _inside(t: float, start: float, stop: float, text: str) -> None:
+    if not start <= t <= stop:
+        raise DyadError(f"--saveat `{text}`: time {t:g} lies outside the simulated span "
+                        f"[{start:g}, {stop:g}]")
+
+
+# --------------------------------------------------------------------------------------------- -p
+
+@dataclass(frozen=True)
+class Override:
+    """`-p NAME=VALUE[UNIT]` as typed: the unit (or None) is converted once units are known."""
+    name: str
+    value: float
+    unit: str | None
+    text: str
+
+
+def parse_override(text: str) -> Override:
+    name, sep, value = text.partition("=")
+    if not sep or not name.strip():
+        raise DyadError(f"bad parameter override `{text}`", hint="write -p NAME=VALUE, e.g. -p boom.m=200")
+    match = _NUMBER.fullmatch(value)
+    if match is None or not value.strip():
+        raise DyadError(f"bad parameter override `{text}`: `{value}` is not a number",
+                        hint="write -p NAME=VALUE or -p NAME=VALUE UNIT, e.g. -p L=0.1 or -p L=100mm")
+    number = float(match.group(1))
+    if not math.isfinite(number):
+        raise DyadError(f"parameter override `{text}`: the value must be a finite number, got {number}")
+    return Override(name.strip(), number, match.group(2) or None, text)
+
+
+def convert_overrides(overrides: list[Override], parameters: Mapping[str, float],
+                      declared: Mapping[str, str]) -> dict[str, float]:
+    """NAME -> value in the declared unit of NAME. A name that is no parameter keeps its value so
+    that the runtime's unknown-parameter error (with its did-you-mean) reports it."""
+    from compiler.units import UnitError, conversion_factor, parse_unit
+
+    values: dict[str, float] = {}
+    for override in overrides:
+        value = override.value
+        if override.unit is not None and override.name in parameters:
+            unit = declared.get(override.name)
+            if not unit:
+                raise DyadError(f"parameter '{override.name}' declares no unit, so `{override.text}` "
+                                f"cannot be converted", hint=f"give a plain number: -p {override.name}="
+                                                             f"{override.value:g}")
+            try:
+                parse_unit(unit)
+            except UnitError as err:
+                raise DyadError(f"parameter '{override.name}' declares the unit `{unit}`, which dyadc "
+                                f"cannot read ({err})", hint="give a plain number in that unit") from None
+            try:
+                given = parse_unit(override.unit)
+            except UnitError as err:
+                raise DyadError(f"-p {override.text}: {err}",
+                                hint=f"parameter '{override.name}' is declared in `{unit}`; give the value "
+                                     "in that unit or one of the same kind, e.g. with an SI prefix") from None
+            try:
+                value = override.value * conversion_factor(override.unit, unit)
+            except UnitError:
+                raise DyadError(f"-p {override.text}: parameter '{override.name}' is declared in `{unit}` "
+                                f"({parse_unit(unit).dimension()}), and the given unit `{override.unit}` "
+                                f"({given.dimension()}) does not convert to it",
+                                hint=f"give the value in `{unit}` or a unit of the same kind") from None
+        values[override.name] = value
+    return values
