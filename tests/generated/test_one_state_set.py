@@ -19,7 +19,7 @@ SPEC = "StructureModels.CartesianPendulumHigh"
 def module_dir(tmp_path_factory):
     out = tmp_path_factory.mktemp("generated")
     done = subprocess.run([sys.executable, "-m", "compiler", "compile", SPEC, "--lib", str(MODELS), "-o", str(out),
-                           "--standalone"],
+                           "--name", "cartesian_pendulum_high", "--standalone"],
                           capture_output=True, text=True, cwd=ROOT, timeout=300)
     assert done.returncode == 0, done.stderr
     return out

@@ -52,7 +52,8 @@ def _run(python: Path, script: str, cwd: Path, module_dir: Path) -> subprocess.C
 
 
 def _compile(out: Path, *extra: str) -> None:
-    done = subprocess.run([sys.executable, "-m", "compiler", "compile", str(MODEL), "-o", str(out), *extra],
+    done = subprocess.run([sys.executable, "-m", "compiler", "compile", str(MODEL), "-o", str(out),
+                           "--name", "falling_body", *extra],
                           capture_output=True, text=True, cwd=ROOT, timeout=300)
     assert done.returncode == 0, done.stderr
 

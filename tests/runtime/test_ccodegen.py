@@ -29,9 +29,9 @@ def test_c_model_matches_the_vm_and_is_cached(cache):
     vm = lower(systems.pendulum_cartesian(0.9))
     native = compile_model(systems.pendulum_cartesian(0.9), codegen="c")
     assert native.metadata["codegen"] == "c" and native.native_library.startswith(str(cache))
-    for chunks in (None, 3):
-        a = runtime.simulate(vm, 2.0, rtol=1e-9, atol=1e-11, chunks=chunks)
-        b = runtime.simulate(native, 2.0, rtol=1e-9, atol=1e-11, chunks=chunks)
+    for breakpoints in (None, [0.5, 1.0, 1.5]):          # one IDAS call, and segments
+        a = runtime.simulate(vm, 2.0, rtol=1e-9, atol=1e-11, breakpoints=breakpoints)
+        b = runtime.simulate(native, 2.0, rtol=1e-9, atol=1e-11, breakpoints=breakpoints)
         np.testing.assert_allclose(b.values, a.values, rtol=1e-9, atol=1e-11)
     libraries = list(cache.glob("*.so"))
     assert len(libraries) == 1
@@ -78,3 +78,23 @@ def test_generated_module_carries_its_native_library(cache, tmp_path):
     assert uses_native
     np.testing.assert_allclose(voltages, 10 * (1 - np.exp(-np.linspace(0, 0.3, 4) / 0.1)),
                                atol=1e-7)
+
+
+def test_the_c_jacobian_has_exact_x_and_z_blocks_and_no_t_or_p_blocks():
+    model = lower(systems.pendulum_cartesian(0.9))
+    dae = ccodegen.dae_function(model)
+    jac = ccodegen.state_jacobian(dae)
+    rng = np.random.default_rng(1)
+    point = [0.4, rng.normal(size=dae.numel_in(1)), rng.normal(size=dae.numel_in(2)),
+             np.array(model.parameter_defaults), np.zeros(0)]
+    values = jac(*point, *dae(*point))
+    full = dae.jacobian()(*point, *dae(*point))             # CasADi's own, every block
+    for k in range(jac.n_out()):
+        name = jac.name_out(k)
+        assert name == dae.jacobian().name_out(k)              # the signature casadi.external expects
+        if name.endswith(("_x", "_z")):
+            np.testing.assert_allclose(np.array(values[k]), np.array(full[k]), rtol=1e-13, atol=1e-13)
+        else:
+            assert jac.sparsity_out(k).nnz() == 0
+    assert any(dae.jacobian().sparsity_out(k).nnz() for k in range(jac.n_out())
+               if jac.name_out(k).endswith("_p"))             # the pendulum does depend on p

@@ -94,7 +94,7 @@ def _check_module(out: dict, tmp_path: Path) -> None:
 def test_hostile_names_do_not_run_when_the_module_is_imported(tmp_path, hostile_library, standalone):
     root, model_file = hostile_library
     out_dir = tmp_path / "out"
-    done = _dyadc(["compile", f"{model_file}:Osc", "--lib", str(root), "-o", str(out_dir)]
+    done = _dyadc(["compile", f"{model_file}:Osc", "--lib", str(root), "-o", str(out_dir), "--name", "osc"]
                   + (["--standalone"] if standalone else []), tmp_path)
     assert done.returncode == 0, done.stderr
     assert (out_dir / "osc.py").is_file() and _markers(tmp_path) == []

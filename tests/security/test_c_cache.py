@@ -1,0 +1,164 @@
+"""The compiled-C cache survives damage, killed runs and concurrent runs (issue 19, item 8).
+
+Before: a truncated library made every `--codegen c` run die with SIGBUS (exit 135) and an empty
+one sent every run to the virtual machine. Every "next run" here is a fresh `dyadc` process, so a
+crash fails the test instead of killing pytest.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import signal
+import stat
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from compiler import c_cache, ccodegen
+from compiler.lower_casadi import lower
+from tests.runtime import runtime_systems as systems
+
+pytestmark = pytest.mark.skipif(ccodegen.find_compiler() is None, reason="no C compiler")
+
+ROOT = Path(__file__).resolve().parents[2]
+MODEL = ROOT / "tests" / "models" / "ComponentTests" / "FallingBody.dyad"
+HEIGHT_AT_1S = 10.0 + 3.0 - 9.80665 / 2           # thrown up at 3 m/s from 10 m
+
+
+def run_dyadc(cache: Path, env_extra: dict | None = None, **popen) -> subprocess.CompletedProcess:
+    env = dict(os.environ, DYADC_CACHE=str(cache), **(env_extra or {}))
+    return subprocess.run([sys.executable, "-m", "compiler", "simulate", str(MODEL), "--stop", "1",
+                           "--codegen", "c", "--vars", "body.r[2]"],
+                          capture_output=True, text=True, cwd=ROOT, env=env, timeout=300, **popen)
+
+
+def check_run(done: subprocess.CompletedProcess) -> None:
+    assert done.returncode == 0, f"exit {done.returncode}: {done.stderr}"
+    assert "unavailable" not in done.stderr                   # it ran in C, not on the fallback
+    final = float(done.stdout.split("body.r[2]")[1].split()[0])
+    assert final == pytest.approx(HEIGHT_AT_1S, abs=1e-5)
+
+
+def entries(cache: Path) -> list[Path]:
+    return sorted(cache.glob("dyad_*.so"))
+
+
+def assert_valid(cache: Path, library: Path) -> None:
+    record = json.loads(library.with_suffix(".json").read_text())
+    data = library.read_bytes()
+    assert record["size"] == len(data) > 0 and record["sha256"] == hashlib.sha256(data).hexdigest()
+
+
+@pytest.fixture
+def built(tmp_path) -> tuple[Path, Path, bytes]:
+    """(cache folder, its one library, the library's good bytes) after one real run."""
+    cache = tmp_path / "cache"
+    check_run(run_dyadc(cache))
+    [library] = entries(cache)
+    assert_valid(cache, library)
+    return cache, library, library.read_bytes()
+
+
+def _truncate(path: Path) -> None:
+    path.write_bytes(path.read_bytes()[: path.stat().st_size // 2])
+
+
+def _empty(path: Path) -> None:
+    path.write_bytes(b"")
+
+
+def _corrupt(path: Path) -> None:            # same size, different bytes in the code section
+    data = bytearray(path.read_bytes())
+    middle = len(data) // 2
+    data[middle:middle + 64] = b"\xcc" * 64
+    path.write_bytes(bytes(data))
+
+
+def _drop_record(path: Path) -> None:
+    path.with_suffix(".json").unlink()
+
+
+def _garble_record(path: Path) -> None:
+    path.with_suffix(".json").write_text("{not json")
+
+
+@pytest.mark.parametrize("damage", [_truncate, _empty, _corrupt, _drop_record, _garble_record],
+                         ids=["truncated", "empty", "corrupted", "no-record", "bad-record"])
+def test_a_damaged_entry_is_rebuilt_and_the_run_is_correct(built, damage):
+    cache, library, good = built
+    damage(library)
+    check_run(run_dyadc(cache))
+    assert entries(cache) == [library]
+    assert library.read_bytes() == good                        # rebuilt: builds are reproducible
+    assert_valid(cache, library)
+
+
+def test_leftovers_of_a_killed_build_are_removed_by_the_next_build(tmp_path):
+    cache = tmp_path / "cache"
+    slow = tmp_path / "slow-cc"                 # answers --version like gcc, then never finishes
+    slow.write_text(f"#!/bin/sh\nif [ \"$1\" = --version ]; then exec {ccodegen.find_compiler()} --version; fi\n"
+                    "exec sleep 120\n")
+    slow.chmod(0o755)
+    env = dict(os.environ, DYADC_CACHE=str(cache), CC=str(slow))
+    killed = subprocess.Popen([sys.executable, "-m", "compiler", "simulate", str(MODEL), "--stop", "1",
+                               "--codegen", "c"], cwd=ROOT, env=env, start_new_session=True,
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 120
+        while not list(cache.glob("build-*/dyad_dae.c")) and time.monotonic() < deadline:
+            time.sleep(0.1)
+    finally:
+        os.killpg(killed.pid, signal.SIGKILL)
+        killed.wait()
+    leftovers = list(cache.glob("build-*"))
+    assert leftovers and entries(cache) == []
+    (cache / ".dyad_0123.json.999.tmp").write_text("{")
+    (cache / "dyad_0123.so").write_bytes(b"\x7fELF")          # a library without its record
+    check_run(run_dyadc(cache))
+    names = sorted(p.name for p in cache.iterdir())
+    [library] = entries(cache)
+    assert names == [".lock", library.with_suffix(".json").name, library.name]
+    assert_valid(cache, library)
+
+
+def test_two_processes_building_one_entry_build_it_once(tmp_path):
+    cache = tmp_path / "cache"
+    log = tmp_path / "builds.log"
+    counting = tmp_path / "counting-cc"
+    counting.write_text(f"#!/bin/sh\n[ \"$1\" = --version ] || echo build >> {log}\n"
+                        f"exec {ccodegen.find_compiler()} \"$@\"\n")
+    counting.chmod(0o755)
+    env = dict(os.environ, DYADC_CACHE=str(cache), CC=str(counting))
+    command = [sys.executable, "-m", "compiler", "simulate", str(MODEL), "--stop", "1", "--codegen", "c",
+               "--vars", "body.r[2]"]
+    runs = [subprocess.Popen(command, cwd=ROOT, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                             text=True) for _ in range(2)]
+    for run in runs:
+        out, err = run.communicate(timeout=300)
+        check_run(subprocess.CompletedProcess(run.args, run.returncode, out, err))
+    assert log.read_text().splitlines() == ["build"]
+    [library] = entries(cache)
+    assert_valid(cache, library)
+
+
+def test_the_cache_folder_is_private(tmp_path):
+    fresh = c_cache.private_folder(tmp_path / "a" / "cache")
+    assert stat.S_IMODE(fresh.stat().st_mode) == 0o700
+    shared = tmp_path / "shared"
+    shared.mkdir(mode=0o777)
+    shared.chmod(0o777)
+    assert stat.S_IMODE(c_cache.private_folder(shared).stat().st_mode) == 0o700
+
+
+def test_a_cache_folder_of_another_user_is_refused(tmp_path, monkeypatch):
+    cache = tmp_path / "cache"
+    cache.mkdir()
+    monkeypatch.setattr(c_cache.os, "getuid", lambda: cache.stat().st_uid + 1)
+    with pytest.warns(ccodegen.CodegenWarning, match="belongs to another user"):
+        model = ccodegen.compile_c(lower(systems.rc_circuit()), cache)
+    assert model.native_library is None and model.metadata["codegen"] == "vm"
+    assert list(cache.iterdir()) == []
