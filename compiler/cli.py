@@ -62,7 +62,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_model(p)
     p.set_defaults(run=_cmd_inspect)
 
-    p = sub.add_parser("compile", help="write a standalone Python module for a model")
+    p = sub.add_parser("compile", help="write a Python module for a model")
     _add_model(p)
     p.add_argument("-o", "--output-dir", default="generated", metavar="DIR")
     p.add_argument("--name", help="module name (default: the qualified model name in snake_case, "
