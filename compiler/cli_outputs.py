@@ -16,8 +16,8 @@ from compiler.errors import DyadError
 
 
 def check_simulate_outputs(output: str | None, plot: str | None) -> None:
-    """`--output` and `--plot` of `dyadc simulate`: known extensions, the packages their formats
-    need, places that can be written, two different files."""
+    """`--output` and `--plot` of `dyadc simulate`: places that can be written, known extensions
+    (disjoint for tables and plots, so the two never name one file), the packages they need."""
     from compiler.runtime.plotting import PlotFormatError, plot_format
     from compiler.runtime.writers import OutputFormatError, check_table_writer
 
@@ -32,8 +32,6 @@ def check_simulate_outputs(output: str | None, plot: str | None) -> None:
             plot_format(plot)
     except (OutputFormatError, PlotFormatError) as err:
         raise DyadError(str(err)) from None
-    if output and plot:
-        check_distinct([("--output", output), ("--plot", plot)])
 
 
 def write_result(result, names: Sequence[str], units: dict, title: str, output: str | None,
@@ -82,16 +80,6 @@ def check_writable_folder(folder: str, what: str) -> None:
         raise DyadError(f"{what}: `{existing}` is a file, not a folder")
     if not os.access(existing, os.W_OK | os.X_OK):
         raise DyadError(f"{what}: cannot write in `{existing}` (no permission or a read-only file system)")
-
-
-def check_distinct(paths: Sequence[tuple[str, str]]) -> None:
-    """No two options name the same file."""
-    seen: dict[str, str] = {}
-    for option, path in paths:
-        key = os.path.realpath(path)
-        if key in seen:
-            raise DyadError(f"{option} `{path}` is the same file as {seen[key]}")
-        seen[key] = f"{option} `{path}`"
 
 
 def write_all_or_none(outputs: Sequence[tuple[str, Callable[[str], None]]]) -> None:
