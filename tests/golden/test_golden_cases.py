@@ -217,3 +217,25 @@ def test_a_nominal_for_an_unknown_that_does_not_exist_is_a_located_error(decay):
     report = golden.accept_case(compilation, wrong, directory)
     assert not report.passed and "nominal given for `zz`" in report.error
     assert "Decay.dyad:16:7" in report.error
+
+
+def test_cli_golden_folder_and_explicit_accept(tmp_path, capsys):
+    from compiler.cli import main
+    folder = tmp_path / "my_goldens"
+    assert main(["test", DECAY, "--golden", str(folder)]) == 1
+    assert not folder.exists()                                   # a missing golden is not created
+    assert f"--golden {folder} --accept" in capsys.readouterr().out
+    assert main(["test", DECAY, "--golden", str(folder), "--accept"]) == 0
+    assert os.listdir(folder) == ["Decay.decay.csv"]
+    assert main(["test", DECAY, "--golden", str(folder)]) == 0
+    assert main(["test", DECAY, "--golden", str(folder), "--update"]) == 0   # the old spelling
+
+
+def test_without_a_model_only_the_named_libraries_cases_run(tmp_path, monkeypatch):
+    monkeypatch.delenv("DYADC_PATH", raising=False)
+    library = tmp_path / "lib"
+    library.mkdir()
+    shutil.copy(DECAY, library / "Decay.dyad")
+    reports = golden.run_tests(None, [str(library)], golden_dir=tmp_path / "goldens", accept=True)
+    assert [r.case.label for r in reports] == ["Decay.decay"]      # not the shipped excavator
+    assert all(r.passed for r in reports)
