@@ -88,14 +88,55 @@ class UnaryOp:
     span: Span | None = _NO_SPAN
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False, repr=False)
 class BinaryOp:
-    # '+', '-', '*', '/', '^', '.+', '.-', '.*', './', '.^',
+    # '+', '-', '*', '/', '^', '.+', '.-', '.*', './', '.^', '%', '÷',
     # '<', '<=', '>', '>=', '==', '!=', 'and', 'or'
     op: str
     left: "Expr"
     right: "Expr"
     span: Span | None = _NO_SPAN
+
+    # A 20000-term sum is a 20000-deep chain of left operands: equality, hashing and repr walk
+    # that chain in a loop, recursing only into right operands (whose depth the parser bounds).
+    def __eq__(self, other):
+        a, b = self, other
+        while isinstance(a, BinaryOp) and isinstance(b, BinaryOp):
+            if a.op != b.op or a.right != b.right:
+                return False
+            a, b = a.left, b.left
+        if isinstance(a, BinaryOp) or isinstance(b, BinaryOp):
+            return False
+        return a == b
+
+    def __hash__(self):
+        value, node = 0, self
+        while isinstance(node, BinaryOp):
+            value = hash((value, node.op, node.right))
+            node = node.left
+        return hash((value, node))
+
+    def __repr__(self):
+        chain, node = [], self
+        while isinstance(node, BinaryOp):
+            chain.append(node)
+            node = node.left
+        text = repr(node)
+        for link in reversed(chain):
+            text = f"BinaryOp(op={link.op!r}, left={text}, right={link.right!r})"
+        return text
+
+
+def left_chain(expr: "BinaryOp", ops) -> tuple["Expr", list["BinaryOp"]]:
+    """The leftmost operand and the links of a left-associated chain of operators in `ops`,
+    innermost first: `a - b + c` -> (a, [(a - b), (a - b + c)])."""
+    links = []
+    node = expr
+    while isinstance(node, BinaryOp) and node.op in ops:
+        links.append(node)
+        node = node.left
+    links.reverse()
+    return node, links
 
 
 @dataclass(frozen=True)
@@ -186,6 +227,7 @@ class ParameterDecl:
     metadata: str | None = None
     condition: "Expr | None" = None             # `... if flag`
     span: Span | None = _NO_SPAN
+    link: str | None = None                     # `{^name}`: the entry in the definition's "_links"
 
 
 @dataclass(frozen=True)
@@ -199,6 +241,7 @@ class VariableDecl:
     metadata: str | None = None
     condition: "Expr | None" = None
     span: Span | None = _NO_SPAN
+    link: str | None = None
 
 
 @dataclass(frozen=True)
@@ -212,6 +255,7 @@ class ComponentDecl:
     metadata: str | None = None
     condition: "Expr | None" = None
     span: Span | None = _NO_SPAN
+    link: str | None = None
 
 
 @dataclass(frozen=True)
@@ -221,9 +265,26 @@ class Extends:
     metadata: str | None = None
     span: Span | None = _NO_SPAN
     doc: str | None = None
+    link: str | None = None
 
 
-Declaration = Union[ParameterDecl, VariableDecl, ComponentDecl]
+@dataclass(frozen=True)
+class TypedDecl:
+    """`name::Type = value` without a keyword: analysis fields (`model::M = M()`), struct and enum
+    fields, replaceable components; with `kind` 'path' or 'stream' a fluid-medium declaration
+    (`path medium::Medium = Water()`). Kept as written; instantiation does not use them yet."""
+    name: str
+    type: TypeSpec
+    value: "Expr | None" = None
+    kind: str | None = None                     # None | 'path' | 'stream'
+    doc: str | None = None
+    metadata: str | None = None
+    condition: "Expr | None" = None
+    span: Span | None = _NO_SPAN
+    link: str | None = None
+
+
+Declaration = Union[ParameterDecl, VariableDecl, ComponentDecl, TypedDecl]
 
 
 # ------------------------------------------------------------------------------------- relations
@@ -235,6 +296,8 @@ class Equation:
     initial: bool = False
     doc: str | None = None
     span: Span | None = _NO_SPAN
+    metadata: str | None = None
+    link: str | None = None
 
 
 @dataclass(frozen=True)
@@ -247,10 +310,24 @@ class Guess:
 
 @dataclass(frozen=True)
 class Connect:
+    """`connect(a, b, ...)`; `u: analysis_point(a, b)` is the same connection, named `u` for
+    linear analyses (`analysis_point` holds the name)."""
     refs: tuple[Ref, ...]
     doc: str | None = None
     span: Span | None = _NO_SPAN
     metadata: str | None = None           # diagram routing JSON after `connect(...)`
+    link: str | None = None
+    analysis_point: str | None = None
+
+
+@dataclass(frozen=True)
+class Continuity:
+    """`continuity(a.medium, b.medium)`: the media are one; recorded, implies no equation."""
+    refs: tuple["Expr", ...]
+    doc: str | None = None
+    span: Span | None = _NO_SPAN
+    metadata: str | None = None
+    link: str | None = None
 
 
 @dataclass(frozen=True)
@@ -276,7 +353,24 @@ class IfRelation:
     doc: str | None = None
 
 
-Relation = Union[Equation, Guess, Connect, ForLoop, IfRelation]
+@dataclass(frozen=True)
+class SwitchCase:
+    names: tuple[str, ...]                      # `case A, B`: the enum members (maybe qualified)
+    body: tuple["Relation", ...]
+    span: Span | None = _NO_SPAN
+
+
+@dataclass(frozen=True)
+class Switch:
+    """`switch subject case A ... case B ... else ... end` on a structural (enum) parameter."""
+    subject: "Expr"
+    cases: tuple[SwitchCase, ...]
+    otherwise: tuple["Relation", ...] = ()
+    span: Span | None = _NO_SPAN
+    doc: str | None = None
+
+
+Relation = Union[Equation, Guess, Connect, Continuity, ForLoop, IfRelation, Switch]
 
 
 # ----------------------------------------------------------------------------------- definitions
@@ -289,6 +383,7 @@ class ConnectorField:
     doc: str | None = None
     metadata: str | None = None
     span: Span | None = _NO_SPAN
+    link: str | None = None
 
 
 @dataclass(frozen=True)
@@ -310,6 +405,7 @@ class SignalConnectorDef:
     doc: str | None = None
     metadata: str | None = None
     span: Span | None = _NO_SPAN
+    link: str | None = None
 
 
 @dataclass(frozen=True)
@@ -327,6 +423,33 @@ class EnumDef:
     members: tuple[str, ...]
     doc: str | None = None
     span: Span | None = _NO_SPAN
+    # Per member, the fields it carries (`| Oil(density::Real = 900)`); () when none has any.
+    fields: tuple[tuple[TypedDecl, ...], ...] = ()
+
+
+@dataclass(frozen=True)
+class FunctionParam:
+    name: str | None
+    type: TypeSpec
+
+
+@dataclass(frozen=True)
+class FunctionTypeDef:
+    """`type RealFunction = func(::Real)::Real`: the type of a function-valued parameter."""
+    name: str
+    params: tuple[FunctionParam, ...]
+    result: TypeSpec
+    doc: str | None = None
+    span: Span | None = _NO_SPAN
+
+
+@dataclass(frozen=True)
+class StructDef:
+    """`struct Name  field::Type = default ... end`: a record of named values."""
+    name: str
+    fields: tuple[TypedDecl, ...]
+    doc: str | None = None
+    span: Span | None = _NO_SPAN
 
 
 @dataclass(frozen=True)
@@ -340,6 +463,8 @@ class ComponentDef:
     doc: str | None = None
     metadata: str | None = None
     span: Span | None = _NO_SPAN
+    # `external component`: behaviour implemented outside Dyad (in Julia); only its interface is here
+    external: bool = False
 
 
 @dataclass(frozen=True)
@@ -363,7 +488,8 @@ class Using:
     span: Span | None = _NO_SPAN
 
 
-Definition = Union[ComponentDef, ConnectorDef, SignalConnectorDef, TypeDef, EnumDef, AnalysisDef]
+Definition = Union[ComponentDef, ConnectorDef, SignalConnectorDef, TypeDef, EnumDef, AnalysisDef,
+                   FunctionTypeDef, StructDef]
 
 
 @dataclass(frozen=True)

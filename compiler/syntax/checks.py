@@ -52,16 +52,17 @@ def _check_body(definition) -> None:
                             parameter.span)])
 
 
-def _calls(node):
-    """Every Call inside a tree of AST nodes and tuples."""
-    if isinstance(node, tuple):
-        for item in node:
-            yield from _calls(item)
-        return
-    if not dataclasses.is_dataclass(node):
-        return
-    if isinstance(node, ast.Call):
-        yield node
-    for field in dataclasses.fields(node):
-        if field.name != "span":
-            yield from _calls(getattr(node, field.name))
+def _calls(root):
+    """Every Call inside a tree of AST nodes and tuples (an explicit stack: sums can be long)."""
+    stack = [root]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, tuple):
+            stack.extend(reversed(node))
+            continue
+        if not dataclasses.is_dataclass(node):
+            continue
+        if isinstance(node, ast.Call):
+            yield node
+        stack.extend(getattr(node, field.name) for field in reversed(dataclasses.fields(node))
+                     if field.name != "span")

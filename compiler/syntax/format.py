@@ -18,7 +18,8 @@ _BINARY_LEVELS = {
     "==": COMPARE_LEVEL, "!=": COMPARE_LEVEL, "<": COMPARE_LEVEL, "<=": COMPARE_LEVEL,
     ">": COMPARE_LEVEL, ">=": COMPARE_LEVEL,
     "+": ADD_LEVEL, "-": ADD_LEVEL, ".+": ADD_LEVEL, ".-": ADD_LEVEL,
-    "*": MUL_LEVEL, "/": MUL_LEVEL, ".*": MUL_LEVEL, "./": MUL_LEVEL,
+    "*": MUL_LEVEL, "/": MUL_LEVEL, ".*": MUL_LEVEL, "./": MUL_LEVEL, "%": MUL_LEVEL,
+    "÷": MUL_LEVEL,
     "^": POWER_LEVEL, ".^": POWER_LEVEL,
 }
 
@@ -104,7 +105,13 @@ def _binary(e: ast.BinaryOp) -> str:
     elif level == COMPARE_LEVEL:
         left, right = _operand(e.left, RANGE_LEVEL), _operand(e.right, RANGE_LEVEL)
     else:
-        left, right = _operand(e.left, level), _operand(e.right, level + 1)
+        # A left-associated chain of one level (`a + b - c`) is printed in a loop: it can be
+        # thousands of terms long.
+        same_level = {op for op, lvl in _BINARY_LEVELS.items() if lvl == level}
+        first, links = ast.left_chain(e, same_level)
+        parts = [_operand(first, level)]
+        parts += [f" {link.op} {_operand(link.right, level + 1)}" for link in links]
+        return "".join(parts)
     return f"{left} {e.op} {right}"
 
 
@@ -158,12 +165,21 @@ def _type_spec(t: ast.TypeSpec) -> str:
     return text
 
 
-def _suffix(condition, metadata) -> str:
+def _suffix(condition, metadata, link=None) -> str:
     text = ""
     if condition is not None:
         text += f" if {format_expr(condition)}"
     if metadata is not None:
         text += f" {metadata}"
+    if link is not None:
+        text += f" {{^{link}}}"
+    return text
+
+
+def _typed(d: ast.TypedDecl) -> str:
+    text = f"{d.kind + ' ' if d.kind else ''}{d.name}::{_type_spec(d.type)}"
+    if d.value is not None:
+        text += f" = {format_expr(d.value)}"
     return text
 
 
@@ -190,9 +206,11 @@ def _declaration(d, indent: str) -> list[str]:
         if d.iterators:
             call = f"[{call} for {_iterators(d.iterators)}]"
         text = f"{d.name} = {call}"
+    elif isinstance(d, ast.TypedDecl):
+        text = _typed(d)
     else:
         raise TypeError(f"not a declaration: {d!r}")
-    lines.append(indent + text + _suffix(d.condition, d.metadata))
+    lines.append(indent + text + _suffix(d.condition, d.metadata, d.link))
     return lines
 
 
@@ -200,8 +218,7 @@ def _extends(e: ast.Extends, indent: str) -> list[str]:
     text = f"extends {e.type_name}"
     if e.modifications:
         text += f"({_modifications(e.modifications)})"
-    if e.metadata is not None:
-        text += f" {e.metadata}"
+    text += _suffix(None, e.metadata, e.link)
     return _doc_lines(e.doc, indent) + [indent + text]
 
 
@@ -211,15 +228,29 @@ def _relation(r, indent: str) -> list[str]:
     if isinstance(r, ast.Equation):
         keyword = "initial " if r.initial else ""
         return _doc_lines(r.doc, indent) + [
-            f"{indent}{keyword}{format_expr(r.lhs)} = {format_expr(r.rhs)}"]
+            f"{indent}{keyword}{format_expr(r.lhs)} = {format_expr(r.rhs)}"
+            + _suffix(None, r.metadata, r.link)]
     if isinstance(r, ast.Guess):
         return _doc_lines(r.doc, indent) + [
             f"{indent}guess {format_expr(r.target)} = {format_expr(r.value)}"]
-    if isinstance(r, ast.Connect):
-        text = f"connect({', '.join(format_expr(x) for x in r.refs)})"
-        if r.metadata is not None:
-            text += f" {r.metadata}"
-        return _doc_lines(r.doc, indent) + [indent + text]
+    if isinstance(r, (ast.Connect, ast.Continuity)):
+        if isinstance(r, ast.Continuity):
+            head = "continuity"
+        elif r.analysis_point is not None:
+            head = f"{r.analysis_point}: analysis_point"
+        else:
+            head = "connect"
+        text = f"{head}({', '.join(format_expr(x) for x in r.refs)})"
+        return _doc_lines(r.doc, indent) + [indent + text + _suffix(None, r.metadata, r.link)]
+    if isinstance(r, ast.Switch):
+        lines = _doc_lines(r.doc, indent) + [f"{indent}switch {format_expr(r.subject)}"]
+        for case in r.cases:
+            lines.append(f"{indent}{INDENT}case {', '.join(case.names)}")
+            lines += _relations(case.body, indent + INDENT * 2)
+        if r.otherwise:
+            lines.append(f"{indent}{INDENT}else")
+            lines += _relations(r.otherwise, indent + INDENT * 2)
+        return lines + [f"{indent}end"]
     if isinstance(r, ast.ForLoop):
         lines = _doc_lines(r.doc, indent) + [f"{indent}for {_iterators(r.iterators)}"]
         lines += _relations(r.body, indent + INDENT)
@@ -249,6 +280,8 @@ def _definition(d) -> list[str]:
         words = []
         if d.partial:
             words.append("partial")
+        if getattr(d, "external", False):
+            words.append("external")
         if getattr(d, "prefix", None):
             words.append(d.prefix)
         words.append("analysis" if isinstance(d, ast.AnalysisDef) else "component")
@@ -268,17 +301,27 @@ def _definition(d) -> list[str]:
         for f in d.fields:
             lines += _doc_lines(f.doc, INDENT)
             lines.append(f"{INDENT}{f.kind} {f.name}::{_type_spec(f.type)}"
-                         + _suffix(None, f.metadata))
+                         + _suffix(None, f.metadata, f.link))
         if d.metadata is not None:
             lines.append(f"metadata {d.metadata}")
         lines.append("end")
     elif isinstance(d, ast.SignalConnectorDef):
         lines.append(f"connector {d.name} = {d.causality} {_type_spec(d.type)}"
-                     + _suffix(None, d.metadata))
+                     + _suffix(None, d.metadata, d.link))
     elif isinstance(d, ast.TypeDef):
         lines.append(f"type {d.name} = {_type_spec(d.base)}")
     elif isinstance(d, ast.EnumDef):
-        lines.append(f"enum {d.name} = {' | '.join(d.members)}")
+        members = [m + (f"({', '.join(_typed(f) for f in d.fields[i])})" if d.fields
+                        and d.fields[i] else "") for i, m in enumerate(d.members)]
+        lines.append(f"enum {d.name} = {' | '.join(members)}")
+    elif isinstance(d, ast.FunctionTypeDef):
+        params = ", ".join(f"{p.name or ''}::{_type_spec(p.type)}" for p in d.params)
+        lines.append(f"type {d.name} = func({params})::{_type_spec(d.result)}")
+    elif isinstance(d, ast.StructDef):
+        lines.append(f"struct {d.name}")
+        for f in d.fields:
+            lines += _declaration(f, INDENT)
+        lines.append("end")
     else:
         raise TypeError(f"not a definition: {d!r}")
     return lines

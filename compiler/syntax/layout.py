@@ -7,7 +7,11 @@ The language is free-form except where layout carries meaning, as in Julia:
 - inside a matrix literal, whitespace separates the elements of a row (`[a -b]` has two
   elements, `[a - b]` one) and a line break separates rows;
 - `end` inside square brackets is the last index, not a block terminator;
-- a string at the start of a statement is a docstring.
+- a string at the start of a statement is a docstring;
+- `[{` outside JSON opens metadata (`x = Foo() [{...}]`), never an array or an index;
+- the `:` that closes `c ? a : b` is not a range, nor is the `:` of `u: analysis_point(a, b)`;
+- `switch`, `case` and `struct` are keywords only where a statement can start with them, so
+  `switch = IdealSwitch()` still declares a component named `switch`.
 Brackets are checked here first so that an unclosed `(` is reported where it was opened.
 """
 from __future__ import annotations
@@ -32,6 +36,7 @@ CONTINUATION_STARTERS = frozenset({
     "PLUS", "MINUS", "DOT_PLUS", "DOT_MINUS", "STAR", "SLASH", "DOT_STAR", "DOT_SLASH", "CARET",
     "DOT_CARET", "COMPARE_OP", "AND", "OR", "AMP_AMP", "PIPE_PIPE", "EQUAL", "RPAR", "RSQB", "RBRACE", "COMMA",
     "COLON", "DOUBLE_COLON", "DOT", "LBRACE", "THEN", "ELSE", "ELSEIF", "IN",
+    "PERCENT", "INT_DIV", "QMARK", "TERNARY_ELSE", "META_OPEN", "METADATA",
 })
 # Docstrings follow these (besides expression enders): the start of a section.
 STATEMENT_OPENERS = frozenset({"SEMICOLON", "RELATIONS"})
@@ -40,6 +45,14 @@ KEYWORD_TYPES = frozenset({
     "RELATIONS", "METADATA", "END", "PARAMETER", "STRUCTURAL", "CONSTANT", "FINAL", "VARIABLE",
     "POTENTIAL", "FLOW", "INPUT", "OUTPUT", "INITIAL", "GUESS", "CONNECT", "FOR", "IN", "IF",
     "THEN", "ELSEIF", "ELSE", "OR", "AND", "TRUE", "FALSE", "TYPE", "ENUM", "USING",
+    "SWITCH", "CASE", "STRUCT", "ANALYSIS_POINT",
+})
+# Keywords that are ordinary names unless a statement starts with them.
+SOFT_KEYWORDS = frozenset({"SWITCH", "CASE", "STRUCT"})
+# After a soft keyword, these show that it was used as a name (`switch = ...`, `case.x`).
+NAME_USES = frozenset({
+    "EQUAL", "DOT", "DOUBLE_COLON", "COMMA", "RPAR", "RSQB", "RBRACE", "LSQB", "COLON",
+    "PLUS", "MINUS", "STAR", "SLASH", "CARET", "COMPARE_OP", "_NL", "SEMICOLON",
 })
 OPENERS = {"LPAR": "RPAR", "LSQB": "RSQB", "LBRACE": "RBRACE"}
 CLOSERS = {v: k for k, v in OPENERS.items()}
@@ -98,17 +111,26 @@ def arrange(tokens: list[Token], docstrings: bool = True) -> list[Token]:
     out: list[Token] = []
     stack: list[_Bracket] = []
     prev: Token | None = None
+    open_ternaries: list[int] = []      # bracket depth of each `?` still waiting for its `:`
     for i, tok in enumerate(tokens):
         inner = stack[-1].kind if stack else None
-        tok = _retype(tok, prev, stack, inner, docstrings)
+        following = tokens[i + 1] if i + 1 < len(tokens) else None
+        tok = _retype(tok, prev, stack, inner, docstrings, following)
+        if tok.type == "QMARK":
+            open_ternaries.append(len(stack))
+        elif tok.type == "COLON" and open_ternaries and open_ternaries[-1] == len(stack):
+            open_ternaries.pop()
+            tok = _synth("TERNARY_ELSE", tok.value, tok)
         if prev is not None:
-            separator = _separator(prev, tok, inner, tokens[i + 1] if i + 1 < len(tokens) else None)
+            separator = _separator(prev, tok, inner, following)
             if separator is not None:
                 out.append(_synth(separator, "\n", tok))
         if tok.type == "LPAR":
             stack.append(_Bracket(tok, "paren"))
         elif tok.type == "LBRACE":
             stack.append(_Bracket(tok, "brace"))
+        elif tok.type == "META_OPEN":
+            stack.append(_Bracket(tok, "meta"))
         elif tok.type == "LSQB":
             indexes = (prev is not None and prev.type in ("NAME", "RPAR", "RSQB")
                        and not (out and out[-1].type == "_HSEP"))
@@ -121,9 +143,17 @@ def arrange(tokens: list[Token], docstrings: bool = True) -> list[Token]:
 
 
 def _retype(tok: Token, prev: Token | None, stack: list[_Bracket], inner: str | None,
-            docstrings: bool) -> Token:
+            docstrings: bool, following: Token | None) -> Token:
     if prev is not None and prev.type == "DOT" and tok.type in KEYWORD_TYPES:
         return _synth("NAME", tok.value, tok)
+    if tok.type in SOFT_KEYWORDS and not _is_statement_keyword(tok, prev, following):
+        return _synth("NAME", tok.value, tok)
+    if tok.type == "LSQB" and following is not None and following.type == "LBRACE" \
+            and not any(b.kind == "brace" for b in stack):
+        return _synth("META_OPEN", tok.value, tok)
+    if tok.type == "COLON" and following is not None and following.type == "ANALYSIS_POINT" \
+            and inner is None:
+        return _synth("AP_COLON", tok.value, tok)
     if tok.type == "END" and any(b.kind in ("index", "array") for b in stack):
         return _synth("END_INDEX", tok.value, tok)
     if docstrings and tok.type in ("STRING", "LONG_STRING") and inner is None \
@@ -151,6 +181,13 @@ def _separator(prev: Token, tok: Token, inner: str | None, following: Token | No
     if tok.type in SIGNED_STARTERS and following is not None and following.start_pos == tok.end_pos:
         return "_HSEP"      # `[a -b]`: a sign glued to its operand starts a new element
     return None
+
+
+def _is_statement_keyword(tok: Token, prev: Token | None, following: Token | None) -> bool:
+    starts_statement = (prev is None or tok.line > prev.end_line
+                        or prev.type in ("SEMICOLON", "RELATIONS", "DOCSTRING"))
+    ends_statement = following is None or following.line > tok.end_line
+    return starts_statement and not ends_statement and following.type not in NAME_USES
 
 
 def _opens_statement(prev: Token | None) -> bool:

@@ -1,0 +1,350 @@
+"""Parse-tree rules for files, definitions and declarations."""
+from __future__ import annotations
+
+from lark import Token
+
+from compiler.syntax import ast
+from compiler.syntax.build_support import (
+    Binding, Body, Doc, Metadata, RelationsSection, RuleBase, Suffix, TypeCall, TypePart,
+    canonical, split_doc, split_suffixes, string_content,
+)
+
+FIELD_KINDS = ("potential", "flow", "input", "output", "stream", "path")
+
+
+class DefinitionRules(RuleBase):
+
+    # ------------------------------------------------------------------ file
+
+    def start(self, meta, children):
+        usings = tuple(c for c in children if isinstance(c, ast.Using))
+        definitions = tuple(c for c in children if not isinstance(c, ast.Using))
+        return ast.File(path=self.filename, usings=usings, definitions=definitions,
+                        span=self._span(meta))
+
+    def expression_start(self, meta, children):
+        return children[0]
+
+    def doc(self, meta, children):
+        return Doc(string_content(children[0].value))
+
+    def using(self, meta, children):
+        package, *names = children
+        return ast.Using(package, tuple(n.value for n in names), span=self._span(meta))
+
+    def qual_name(self, meta, children):
+        return ".".join(t.value for t in children)
+
+    # ----------------------------------------------------------- definitions
+
+    def def_prefix(self, meta, children):
+        return children[0]
+
+    def _prefixes(self, tokens: list[Token], what: str) -> tuple[bool, str | None, bool]:
+        partial = external = False
+        prefix = None
+        seen = set()
+        for tok in tokens:
+            if tok.value in seen:
+                raise self._error(f"`{tok.value}` is given twice", self._tspan(tok))
+            seen.add(tok.value)
+            if tok.value == "partial":
+                partial = True
+            elif tok.value == "external":
+                if what != "component":
+                    raise self._error(f"an {what} cannot be `external`", self._tspan(tok))
+                external = True
+            else:
+                if prefix is not None:
+                    raise self._error(f"a {what} cannot be both `{prefix}` and `{tok.value}`",
+                                      self._tspan(tok))
+                prefix = tok.value
+        return partial, prefix, external
+
+    def component_def(self, meta, children):
+        doc, rest = split_doc(children)
+        *prefix_tokens, name, body = rest
+        partial, prefix, external = self._prefixes(prefix_tokens, "component")
+        return ast.ComponentDef(name.value, body.extends, body.declarations, body.relations,
+                                partial=partial, prefix=prefix, doc=doc, metadata=body.metadata,
+                                span=self._span(meta), external=external)
+
+    def analysis_def(self, meta, children):
+        doc, rest = split_doc(children)
+        *prefix_tokens, name, body = rest
+        partial, prefix, _ = self._prefixes(prefix_tokens, "analysis")
+        if prefix is not None:
+            raise self._error(f"an analysis cannot be `{prefix}`", self._span(meta))
+        return ast.AnalysisDef(name.value, body.extends, body.declarations, body.relations,
+                               partial=partial, doc=doc, metadata=body.metadata,
+                               span=self._span(meta))
+
+    def body(self, meta, children):
+        extends, declarations, relations, metadata = [], [], (), None
+        for child in children:
+            if isinstance(child, ast.Extends):
+                extends.append(child)
+            elif isinstance(child, RelationsSection):
+                relations = child.relations
+            elif isinstance(child, Metadata):
+                metadata = child.text
+            else:
+                declarations.append(child)
+        return Body(tuple(extends), tuple(declarations), relations, metadata)
+
+    def relations_section(self, meta, children):
+        return RelationsSection(children[1])
+
+    def metadata_section(self, meta, children):
+        return Metadata(canonical(children[0]))
+
+    def connector_def(self, meta, children):
+        doc, rest = split_doc(children)
+        partial = False
+        if rest and isinstance(rest[0], Token) and rest[0].type == "PARTIAL":
+            partial = True
+            rest = rest[1:]
+        name, *items = rest
+        fields = tuple(i for i in items if isinstance(i, ast.ConnectorField))
+        metadata = next((i.text for i in items if isinstance(i, Metadata)), None)
+        return ast.ConnectorDef(name.value, fields, partial=partial, doc=doc, metadata=metadata,
+                                span=self._span(meta))
+
+    def connector_field(self, meta, children):
+        doc, rest = split_doc(children)
+        suffixes, (kind, name, type_spec) = split_suffixes(rest, "a connector field")
+        if suffixes.condition is not None:
+            raise self._error("connector fields cannot be conditional", suffixes.condition_span)
+        return ast.ConnectorField(name.value, kind, type_spec, doc=doc, metadata=suffixes.metadata,
+                                  span=self._span(meta), link=suffixes.link)
+
+    def field_kind(self, meta, children):
+        tok = children[0]
+        if tok.type != "NAME" or tok.value in FIELD_KINDS:
+            return tok.value
+        raise self._error(f"expected `potential`, `flow`, `input`, `output`, `stream` or `path` "
+                          f"before a connector field, found name `{tok.value}`", self._tspan(tok))
+
+    def signal_connector_def(self, meta, children):
+        doc, rest = split_doc(children)
+        block = next((r for r in rest if isinstance(r, Metadata)), None)
+        suffixes, (name, causality, type_spec) = split_suffixes(
+            [r for r in rest if not isinstance(r, Metadata)], "a connector")
+        if suffixes.condition is not None:
+            raise self._error("a connector definition cannot be conditional",
+                              suffixes.condition_span)
+        if block is not None and suffixes.metadata is not None:
+            raise self._error("a connector has two metadata objects", self._span(meta))
+        return ast.SignalConnectorDef(name.value, causality, type_spec, doc=doc,
+                                      metadata=block.text if block else suffixes.metadata,
+                                      span=self._span(meta), link=suffixes.link)
+
+    def causality(self, meta, children):
+        return children[0].value
+
+    def type_def(self, meta, children):
+        doc, (name, base) = split_doc(children)
+        return ast.TypeDef(name.value, base, doc=doc, span=self._span(meta))
+
+    def function_type_def(self, meta, children):
+        doc, (name, keyword, *params, result) = split_doc(children)
+        if keyword != "func":
+            raise self._error(f"expected `func` before a function type, found `{keyword}`",
+                              self._span(meta), hint="write `type F = func(::Real)::Real`")
+        return ast.FunctionTypeDef(name.value, tuple(params), result, doc=doc,
+                                   span=self._span(meta))
+
+    def function_param(self, meta, children):
+        *name, type_spec = children
+        return ast.FunctionParam(name[0].value if name else None, type_spec)
+
+    def struct_def(self, meta, children):
+        doc, (_, name, *fields) = split_doc(children)
+        self._unique([(f.name, f.span) for f in fields], f"struct `{name.value}`")
+        return ast.StructDef(name.value, tuple(fields), doc=doc, span=self._span(meta))
+
+    def enum_def(self, meta, children):
+        doc, (name, *cases) = split_doc(children)
+        members = tuple(member for member, _ in cases)
+        fields = tuple(f for _, f in cases)
+        return ast.EnumDef(name.value, members, doc=doc, span=self._span(meta),
+                           fields=fields if any(fields) else ())
+
+    def enum_case(self, meta, children):
+        name, *fields = children
+        return name.value, (fields[0] if fields else ())
+
+    def enum_block_case(self, meta, children):
+        rest = [c for c in children if not isinstance(c, Doc)]
+        name, *fields = rest
+        return name.value, (fields[0] if fields else ())
+
+    def enum_fields(self, meta, children):
+        self._unique([(f.name, f.span) for f in children], "this enum member")
+        return tuple(children)
+
+    def typed_field(self, meta, children):
+        name, type_spec, *value = children
+        return ast.TypedDecl(name.value, type_spec, value[0] if value else None,
+                             span=self._span(meta))
+
+    def _unique(self, named, where: str) -> None:
+        seen = set()
+        for name, span in named:
+            if name in seen:
+                raise self._error(f"duplicate field `{name}` in {where}", span)
+            seen.add(name)
+
+    # ---------------------------------------------------------- declarations
+
+    def extends_clause(self, meta, children):
+        doc, rest = split_doc(children)
+        suffixes, (name, *rest) = split_suffixes(rest, "an `extends` clause")
+        modifications = next((r for r in rest if isinstance(r, tuple)), ())
+        return ast.Extends(name, modifications, metadata=suffixes.metadata, span=self._span(meta),
+                           doc=doc, link=suffixes.link)
+
+    def parameter_decl(self, meta, children):
+        doc, rest = split_doc(children)
+        suffixes, rest = split_suffixes(rest, "a parameter")
+        final = isinstance(rest[0], Token) and rest[0].type == "FINAL"
+        if final:
+            rest = rest[1:]
+        variability, name, type_spec, *default = rest
+        return ast.ParameterDecl(name.value, type_spec, default[0] if default else None,
+                                 variability=variability, final=final, doc=doc,
+                                 metadata=suffixes.metadata, condition=suffixes.condition,
+                                 span=self._span(meta), link=suffixes.link)
+
+    def variability(self, meta, children):
+        return {"parameter": "parameter", "structural": "structural",
+                "constant": "constant"}[children[0].value]
+
+    def variable_decl(self, meta, children):
+        doc, rest = split_doc(children)
+        suffixes, (kind, name, type_spec, *binding) = split_suffixes(rest, "a variable")
+        value = initial = None
+        if binding:
+            if binding[0].initial:
+                initial = binding[0].value
+            else:
+                value = binding[0].value
+        causality = None if kind == "variable" else kind
+        return ast.VariableDecl(name.value, type_spec, binding=value, initial=initial,
+                                causality=causality, doc=doc, metadata=suffixes.metadata,
+                                condition=suffixes.condition, span=self._span(meta),
+                                link=suffixes.link)
+
+    def var_kind(self, meta, children):
+        return children[0].value
+
+    def equation_binding(self, meta, children):
+        return Binding(False, children[0])
+
+    def initial_binding(self, meta, children):
+        return Binding(True, children[1])
+
+    def typed_decl(self, meta, children):
+        doc, rest = split_doc(children)
+        suffixes, (name, type_spec, *value) = split_suffixes(rest, "a declaration")
+        return ast.TypedDecl(name.value, type_spec, value[0] if value else None, doc=doc,
+                             metadata=suffixes.metadata, condition=suffixes.condition,
+                             span=self._span(meta), link=suffixes.link)
+
+    def field_decl(self, meta, children):
+        doc, rest = split_doc(children)
+        suffixes, (kind, name, type_spec, *value) = split_suffixes(rest, "a declaration")
+        if kind.value not in ("path", "stream"):
+            raise self._error(f"expected a declaration, found name `{kind.value}` before "
+                              f"`{name.value}`", self._tspan(kind),
+                              hint="declarations start with `parameter`, `variable`, `path`, "
+                                   "`stream`, or are `name::Type` / `name = Component()`")
+        return ast.TypedDecl(name.value, type_spec, value[0] if value else None, kind=kind.value,
+                             doc=doc, metadata=suffixes.metadata, condition=suffixes.condition,
+                             span=self._span(meta), link=suffixes.link)
+
+    def component_decl(self, meta, children):
+        doc, rest = split_doc(children)
+        suffixes, (name, call) = split_suffixes(rest, "a component")
+        return ast.ComponentDecl(name.value, call.name, call.modifications, doc=doc,
+                                 metadata=suffixes.metadata, condition=suffixes.condition,
+                                 span=self._span(meta), link=suffixes.link)
+
+    def component_array_decl(self, meta, children):
+        doc, rest = split_doc(children)
+        suffixes, (name, call, iterators) = split_suffixes(rest, "a component array")
+        return ast.ComponentDecl(name.value, call.name, call.modifications, iterators=iterators,
+                                 doc=doc, metadata=suffixes.metadata,
+                                 condition=suffixes.condition, span=self._span(meta),
+                                 link=suffixes.link)
+
+    def type_call(self, meta, children):
+        name, *mods = children
+        return TypeCall(name, mods[0] if mods else ())
+
+    def suffix_metadata(self, meta, children):
+        obj = next(c for c in children if isinstance(c, dict))
+        return Suffix("metadata", canonical(obj), self._span(meta))
+
+    def suffix_link(self, meta, children):
+        return Suffix("link", children[-1].value, self._span(meta))
+
+    def suffix_condition(self, meta, children):
+        return Suffix("condition", children[0], self._span(meta))
+
+    def meta_suffix(self, meta, children):
+        return children[0]
+
+    def decl_suffix(self, meta, children):
+        return children[0]
+
+    def type_spec(self, meta, children):
+        name, *parts = children
+        dims = modifications = None
+        for part in parts:
+            if part.kind == "dims":
+                if dims is not None:
+                    raise self._error(f"type `{name}` has two array dimension lists", part.span)
+                dims = part.value
+            else:
+                if modifications is not None:
+                    raise self._error(f"type `{name}` has two modifier lists", part.span)
+                modifications = part.value
+        return ast.TypeSpec(name, modifications or (), dims or (), span=self._span(meta))
+
+    def type_dims(self, meta, children):
+        return TypePart("dims", children[0], self._span(meta))
+
+    def type_modifications(self, meta, children):
+        return TypePart("modifications", children[0] if children else (), self._span(meta))
+
+    def modifications(self, meta, children):
+        seen: dict[str, ast.Modification] = {}
+        for mod in children:
+            if mod.name in seen:
+                raise self._error(f"modifier `{mod.name}` is given twice", mod.span)
+            seen[mod.name] = mod
+        return tuple(children)
+
+    def modification(self, meta, children):
+        final = isinstance(children[0], Token) and children[0].type == "FINAL"
+        rest = children[1:] if final else children
+        name, *rest = rest
+        nested: tuple = ()
+        value = None
+        has_parens = False
+        for item in rest:
+            if isinstance(item, tuple):
+                nested = item
+                has_parens = True
+            else:
+                value = item
+        span = self._span(meta)
+        if value is None and not nested:
+            what = "a value or nested modifiers" if has_parens else "a value"
+            raise self._error(f"modifier `{name}` needs {what}", span,
+                              hint=f"write `{name} = ...` or `{name}(attribute = ...)`")
+        return ast.Modification(name, value, nested, final=final, span=span)
+
+    def modifier_name(self, meta, children):
+        return ".".join(t.value for t in children)
