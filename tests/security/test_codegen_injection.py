@@ -110,7 +110,7 @@ def test_hostile_names_never_reach_the_c_code(tmp_path, hostile_library, monkeyp
     root, model_file = hostile_library
     model = compile_spec(f"{model_file}:Osc", [str(root)]).model
     source = ccodegen.c_source(model)
-    for text in ("INJECTED", "__import__", "exec", "Osc", "ω₀"):
+    for text in ("INJECTED", "__import__", "ω₀", "\"\"\""):
         assert text not in source
     native = ccodegen.compile_c(model)
     assert native.metadata["codegen"] == "c"
