@@ -96,12 +96,15 @@ def outside(tmp_path):
 def test_the_wheel_holds_every_package_and_the_whole_library(installed):
     _, wheel = installed
     names = set(zipfile.ZipFile(wheel).namelist())
-    packages = sorted(str(p.parent.relative_to(ROOT)) for p in (ROOT / "compiler").rglob("__init__.py"))
-    missing = [p for p in packages if f"{p}/__init__.py" not in names]
-    assert not missing, f"compiler packages missing from the wheel: {missing}"
-    library = sorted(str(p.relative_to(ROOT / "components")) for p in (ROOT / "components").rglob("*.dyad"))
-    assert library and all(f"compiler/components/{p}" in names for p in library)
+    # every file of the compiler (modules, grammar, parser tables), without caches
+    package_files = sorted(str(p.relative_to(ROOT)) for p in (ROOT / "compiler").rglob("*")
+                           if p.is_file() and "__pycache__" not in p.parts)
+    missing = [p for p in package_files if p not in names]
+    assert not missing, f"files of compiler/ missing from the wheel: {missing}"
     assert "compiler/syntax/grammar.lark" in names
+    library = sorted(str(p.relative_to(ROOT / "components")) for p in (ROOT / "components").rglob("*.dyad"))
+    missing = [p for p in library if f"compiler/components/{p}" not in names]
+    assert library and not missing, f"library files missing from the wheel: {missing}"
     assert not any(n.startswith(("tests/", "components/")) for n in names)
 
 
