@@ -191,8 +191,8 @@ def convert_overrides(overrides: list[Override], parameters: Mapping[str, float]
     values: dict[str, float] = {}
     for override in overrides:
         value = override.value
-        if override.unit is not None and override.name in parameters:
-            unit = declared.get(override.name)
+        unit = declared.get(override.name)
+        if override.unit is not None and override.name in parameters and override.unit != unit:
             if not unit:
                 raise DyadError(f"parameter '{override.name}' declares no unit, so `{override.text}` "
                                 f"cannot be converted", hint=f"give a plain number: -p {override.name}="

@@ -5,7 +5,8 @@ import keyword
 import re
 from pathlib import Path
 
-# module name -> model spec; every entry is rebuilt by `dyadc generate` and checked for staleness in CI
+# module name -> model spec; every entry is rebuilt by `dyadc generate` and checked for staleness in CI.
+# The names are explicit (not module_name()'s qualified default) so that imports stay short.
 GENERATED_MODELS = {
     "excavator": "MultibodyComponents.PlanarMechanics.examples.excavator.Excavator",
 }

@@ -106,6 +106,8 @@ def parse_unit(text: str) -> Quantity:
 def conversion_factor(given: str, declared: str) -> float:
     """The number that turns a value in `given` units into one in `declared` units; a UnitError
     when the two measure different kinds of quantity."""
+    if given.strip() == declared.strip():
+        return 1.0                     # also for units with an offset, such as degC to degC
     source, target = parse_unit(given), parse_unit(declared)
     if source.exponents != target.exponents:
         raise UnitError(f"`{given}` ({source.dimension()}) and `{declared}` ({target.dimension()}) "

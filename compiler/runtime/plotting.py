@@ -53,7 +53,7 @@ def plot_signals(path: str | os.PathLike, time, columns: Mapping[str, np.ndarray
     image_format = plot_format(path)
     groups = group_by_unit(list(columns), units)
     rows = max(len(groups), 1)
-    figure = Figure(figsize=(9, 1.2 + _SUBPLOT_HEIGHT * rows), layout="constrained")
+    figure = Figure(figsize=(11, 1.2 + _SUBPLOT_HEIGHT * rows), layout="constrained")
     axes = figure.subplots(rows, 1, sharex=True, squeeze=False)[:, 0]
     time = np.asarray(time, dtype=float)
     for ax, (unit, names) in zip(axes, groups.items()):
@@ -63,7 +63,8 @@ def plot_signals(path: str | os.PathLike, time, columns: Mapping[str, np.ndarray
         ax.set_ylabel(unit if unit == NO_UNIT else f"[{unit}]")
         ax.grid(True, alpha=0.3)
         if len(names) <= _MAX_LEGEND_ENTRIES:
-            ax.legend(fontsize="small", loc="best")
+            # beside the axes: a legend inside hides the curves it names
+            ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     axes[-1].set_xlabel("time [s]")
     figure.suptitle(title)
     atomic_write(path, lambda temp: figure.savefig(temp, format=image_format))

@@ -84,4 +84,13 @@ def test_every_unit_the_standard_library_declares_is_readable():
         declared.update(re.findall(r'units\s*=\s*"([^"]*)"', source.read_text(encoding="utf-8")))
     assert {"m", "kg", "N.m.s/rad", "kg.m2", "m/s2", "Ohm"} <= declared
     for unit in declared:
-        parse_unit(unit)
+        try:
+            parse_unit(unit)
+        except UnitError as err:        # only units with an offset may be refused, and say so
+            assert "offset" in str(err), (unit, err)
+
+
+def test_a_unit_with_an_offset_converts_only_to_itself():
+    assert conversion_factor("degC", "degC") == 1.0
+    with pytest.raises(UnitError, match="offset"):
+        conversion_factor("degC", "K")
