@@ -210,3 +210,14 @@ def test_both_outputs_are_written_when_both_succeed(oscillator, tmp_path):
     assert simulate(oscillator, "--output", tmp_path / "a" / "r.npz", "--plot", tmp_path / "b" / "r.svg") == 0
     assert os.listdir(tmp_path / "a") == ["r.npz"] and os.listdir(tmp_path / "b") == ["r.svg"]
     assert (tmp_path / "b" / "r.svg").read_text().lstrip().startswith("<?xml")
+
+
+def test_writers_and_plotting_import_no_optional_package():
+    """pyarrow, scipy and matplotlib load only when their format is written (fresh process)."""
+    import subprocess
+    script = ("import sys, compiler.runtime.writers, compiler.runtime.plotting\n"
+              "print(sorted(m for m in ('pyarrow', 'scipy', 'matplotlib') if m in sys.modules))")
+    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                         cwd=Path(__file__).resolve().parents[2], timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert run.stdout.strip() == "[]"
