@@ -179,7 +179,15 @@ def parse_override(text: str) -> Override:
     number = float(match.group(1))
     if not math.isfinite(number):
         raise DyadError(f"parameter override `{text}`: the value must be a finite number, got {number}")
-    return Override(name.strip(), number, match.group(2) or None, text)
+    unit = match.group(2) or None
+    if unit is not None:
+        from compiler.units import UnitError, parse_unit
+        try:
+            parse_unit(unit)       # readable now; whether it fits the parameter is known after flattening
+        except UnitError as err:
+            raise DyadError(f"-p {text}: {err}", hint="units are written as in the library, e.g. mm, kN/m, "
+                                                      "kg.m2, m/s2, 1/min (docs/cli.md)") from None
+    return Override(name.strip(), number, unit, text)
 
 
 def convert_overrides(overrides: list[Override], parameters: Mapping[str, float],
@@ -202,12 +210,7 @@ def convert_overrides(overrides: list[Override], parameters: Mapping[str, float]
             except UnitError as err:
                 raise DyadError(f"parameter '{override.name}' declares the unit `{unit}`, which dyadc "
                                 f"cannot read ({err})", hint="give a plain number in that unit") from None
-            try:
-                given = parse_unit(override.unit)
-            except UnitError as err:
-                raise DyadError(f"-p {override.text}: {err}",
-                                hint=f"parameter '{override.name}' is declared in `{unit}`; give the value "
-                                     "in that unit or one of the same kind, e.g. with an SI prefix") from None
+            given = parse_unit(override.unit)
             try:
                 value = override.value * conversion_factor(override.unit, unit)
             except UnitError:

@@ -138,7 +138,6 @@ def test_units_on_a_library_model_parameter(tmp_path):
     ("L=3s", ["parameter 'L'", "`m`", "`s`", "does not convert"]),
     ("k=5N", ["parameter 'k'", "`N/m`", "`N`"]),
     ("n=2m", ["parameter 'n' declares no unit", "plain number"]),
-    ("m=2furlong", ["unknown unit `furlong`", "parameter 'm' is declared in `kg`"]),
 ])
 def test_inconsistent_units_are_refused_naming_parameter_and_both_units(oscillator, capsys, override, words):
     assert simulate(oscillator, "--stop", 1, "-p", override) == 1
@@ -146,6 +145,17 @@ def test_inconsistent_units_are_refused_naming_parameter_and_both_units(oscillat
     assert err.startswith("error:") and "Traceback" not in err
     for word in words:
         assert word in err, (word, err)
+
+
+@pytest.mark.parametrize("override, words", [
+    ("m=2furlong", "-p m=2furlong: unknown unit `furlong`"),
+    ("L=3m/", "ends where a unit symbol is expected"),
+    ("T=20degC+", "unexpected `+`"),
+])
+def test_unreadable_units_are_refused_before_compiling(oscillator, no_compile, capsys, override, words):
+    assert simulate(oscillator, "--stop", 1, "-p", override) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("error:") and words in err, err
 
 
 @pytest.mark.parametrize("value", ["nan", "inf", "-inf", "1e400"])
