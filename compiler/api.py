@@ -5,9 +5,9 @@ import time
 from typing import Mapping, Sequence
 
 from compiler import runtime
-from compiler.errors import DyadError, SimulationError
 from compiler.flat import FlatSystem
 from compiler.pipeline import Compilation, compile_spec, flatten_spec
+from compiler.simulate import runtime_errors
 
 
 def flatten(model_spec: str, lib_dirs: Sequence[str] = ()) -> FlatSystem:
@@ -21,23 +21,23 @@ def compile(model_spec: str, lib_dirs: Sequence[str] = ()) -> Compilation:  # no
 def simulate_compiled(compilation: Compilation, stop: float, *, start: float = 0.0, rtol: float = 1e-6,
                       atol: float = 1e-6, points: int = 501, saveat=None,
                       params: Mapping[str, float] | None = None, progress: bool | None = None,
-                      integrator_options: Mapping | None = None) -> runtime.Result:
-    """`integrator_options` go to CasADi's IDAS interface, e.g. {"suppress_algebraic": False} to keep
-    the algebraic unknowns in the error test (default: suppressed, see compiler/runtime.py)."""
-    try:
-        if compilation.dynamic:
-            from compiler.dynamic import simulate_dynamic
-            result = simulate_dynamic(compilation.flat, compilation.analysis, compilation.variant, stop,
-                                      start=start, rtol=rtol, atol=atol, points=points, saveat=saveat,
-                                      params=params, integrator_options=integrator_options)
-        else:
-            result = runtime.simulate(compilation.model, stop, start=start, rtol=rtol, atol=atol, points=points,
-                                      saveat=saveat, params=params, progress=progress,
-                                      integrator_options=integrator_options)
-    except runtime.SimulationFailed as err:
-        raise SimulationError(str(err), getattr(err, "time_reached", None), getattr(err, "reason", None)) from None
-    except runtime.ModelInputError as err:
-        raise DyadError(str(err)) from None
+                      integrator_options: Mapping | None = None, max_step: float | None = None,
+                      max_steps: int = 100000) -> runtime.Result:
+    """Run a compilation through the runtime's one driver (with the state-set switcher when its
+    state set may have to change); failures become located DyadErrors. `integrator_options` go to
+    CasADi's IDAS interface, e.g. {"suppress_algebraic": False} to keep the algebraic unknowns in
+    the error test (default: suppressed, see compiler/runtime/idas.py)."""
+    options = runtime.SimulationOptions(stop=stop, start=start, rtol=rtol, atol=atol, points=points,
+                                        saveat=saveat, params=params, progress=progress,
+                                        integrator_options=integrator_options, max_step=max_step,
+                                        max_steps=max_steps)
+    switcher = None
+    if compilation.dynamic:
+        from compiler.dynamic import Switcher
+        switcher = Switcher(compilation.flat, compilation.analysis, compilation.variant)
+    from compiler.run_checks import checked_run       # missing parameter values, singular start
+    with checked_run(compilation, params, start), runtime_errors(compilation.reduced):
+        result = runtime.simulate(compilation.model, options=options, switcher=switcher)
     result.stats["compile_time"] = sum(compilation.timings.values())
     result.stats["compile_timings"] = dict(compilation.timings)
     return result

@@ -12,6 +12,7 @@ import casadi as ca
 import sympy
 
 from compiler.errors import DyadError, Span
+from compiler.events import find_events
 from compiler.flat import TIME
 from compiler.runtime import CompiledModel
 from compiler.structure.reduced import ReducedSystem
@@ -275,8 +276,11 @@ def lower(reduced: ReducedSystem) -> CompiledModel:
                                 "algebraic unknown, parameter, assignment or observable")
     outputs = ca.Function("outputs", inputs, [ca.vertcat(*values)], names_in, ["values"])
 
+    events, event_labels, time_events, time_event_labels = _event_functions(reduced, walker, x, z, p, t)
     return CompiledModel(
         name=reduced.name,
+        events=events, event_labels=event_labels,
+        time_events=time_events, time_event_labels=time_event_labels,
         state_names=reduced.states,
         algebraic_names=reduced.algebraics,
         parameter_names=[q.name for q in reduced.parameters],
@@ -297,6 +301,29 @@ def lower(reduced: ReducedSystem) -> CompiledModel:
                              if name in set(output_names)},
                   "units": _declared_units(reduced, output_names)},
     )
+
+
+def _event_functions(reduced: ReducedSystem, walker: "SXLowering", x, z, p, t):
+    """events(x, z, p, t) -> zero functions of the state events; time_events(p) -> (offsets,
+    periods) of the time events (see compiler/events.py). None where the model has none."""
+    found = find_events(reduced)
+    events = labels = time_events = time_labels = None
+    if found.state_events:
+        zeros = [walker.lower(e.zero, f"the event condition {e.label}") for e in found.state_events]
+        events = ca.Function("events", [x, z, p, t], [ca.vertcat(*zeros)], ["x", "z", "p", "t"], ["zero"])
+        labels = [e.label for e in found.state_events]
+    usable = []
+    for e in found.time_events:
+        offset = ca.substitute(walker.lower(e.offset, f"the event time of {e.label}"), t, ca.SX(0))
+        period = ca.substitute(walker.lower(e.period, f"the event period of {e.label}"), t, ca.SX(0))
+        if not ca.depends_on(ca.vertcat(offset, period), ca.vertcat(x, z)):
+            usable.append((offset, period, e.label))
+    if usable:
+        time_events = ca.Function("time_events", [p], [ca.vertcat(*[u[0] for u in usable]),
+                                                       ca.vertcat(*[u[1] for u in usable])],
+                                  ["p"], ["offset", "period"])
+        time_labels = [u[2] for u in usable]
+    return events, labels, time_events, time_labels
 
 
 def _declared_units(reduced: ReducedSystem, output_names: list[str]) -> dict[str, str]:

@@ -41,12 +41,13 @@ def test_csv_with_chosen_columns(tmp_path, rc_result):
 def test_failed_csv_write_leaves_the_old_file_and_no_temporary(tmp_path, rc_result, monkeypatch):
     path = tmp_path / "rc.csv"
     path.write_text("previous contents\n")
-    original = runtime._write_rows
+    from compiler.runtime import writers
+    original = writers._WRITERS[".csv"]
 
-    def write_half_then_fail(out, header, data):
-        original(out, header, data[: len(data) // 2])
+    def write_half_then_fail(temp, time, data, units):
+        original(temp, time[: len(time) // 2], {k: v[: len(time) // 2] for k, v in data.items()}, units)
         raise OSError("disk full (simulated)")
-    monkeypatch.setattr(runtime, "_write_rows", write_half_then_fail)
+    monkeypatch.setitem(writers._WRITERS, ".csv", write_half_then_fail)
     with pytest.raises(OSError, match="disk full"):
         rc_result.to_csv(path)
     assert path.read_text() == "previous contents\n"

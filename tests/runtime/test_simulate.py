@@ -1,6 +1,8 @@
 """Simulation accuracy against independent solutions, parameters, failures and solver statistics."""
 from __future__ import annotations
 
+import sys
+
 import numpy as np
 import pytest
 import sympy
@@ -8,6 +10,7 @@ from scipy.integrate import solve_ivp
 
 from tests.runtime import runtime_systems as systems
 from compiler import runtime
+from compiler.runtime.idas import integrator_options
 from compiler.errors import DyadError, SimulationError
 from compiler.flat import TIME
 from compiler.lower_casadi import lower
@@ -113,21 +116,25 @@ def test_failure_reports_the_time_reached_and_the_solver_reason():
     assert "Traceback" not in error.format()
 
 
-def test_failure_in_a_chunked_run_reports_unscaled_time():
+def test_failure_in_a_segmented_run_reports_the_model_time():
     model = lower(systems.vanishing_root())
     with pytest.raises(runtime.SimulationFailed) as info:
-        runtime.simulate(model, 2.0, rtol=1e-8, atol=1e-10, max_steps=2000, chunks=4)
+        runtime.simulate(model, 2.0, rtol=1e-8, atol=1e-10, max_steps=2000, breakpoints=[0.5, 1.5])
     assert 0.9 < info.value.time_reached <= 1.0 + 1e-9
 
 
-def test_chunked_run_agrees_with_single_run_and_shows_progress(capsys, monkeypatch):
+@pytest.mark.parametrize("terminal", [False, True])
+def test_a_progress_bar_never_changes_a_number(capsys, monkeypatch, terminal):
+    from compiler.runtime import progress
     model = lower(systems.pendulum_angle(0.5))
-    single = runtime.simulate(model, 4.0, rtol=1e-10, atol=1e-12, points=81, progress=False)
-    monkeypatch.setattr(runtime, "PROGRESS_DELAY", 0.0)
-    chunked = runtime.simulate(model, 4.0, rtol=1e-10, atol=1e-12, points=81, progress=True)
-    assert chunked.stats["chunks"] > 1 and single.stats["chunks"] == 1
-    np.testing.assert_allclose(chunked["theta"], single["theta"], atol=1e-8)
-    assert "t = 4 / 4" in capsys.readouterr().err
+    quiet = runtime.simulate(model, 4.0, rtol=1e-10, atol=1e-12, points=81, progress=False)
+    monkeypatch.setattr(progress, "PROGRESS_DELAY", 0.0)
+    monkeypatch.setattr(sys.stderr, "isatty", lambda: terminal, raising=False)
+    shown = runtime.simulate(model, 4.0, rtol=1e-10, atol=1e-12, points=81,
+                             progress=True if terminal else None)
+    np.testing.assert_array_equal(shown.values, quiet.values)
+    assert shown.stats["steps"] == quiet.stats["steps"]
+    assert ("t = 4 / 4" in capsys.readouterr().err) == terminal
 
 
 def test_saveat_grid_and_per_variable_absolute_tolerance():
@@ -174,18 +181,6 @@ def test_bad_integrator_options_are_a_simulation_error():
         simulate_reduced(systems.rc_circuit(), 0.1, integrator_options={"no_such_option": 1})
 
 
-@pytest.mark.parametrize("delay, expected_chunks", [(1e9, 2), (0.0, 20)])
-def test_terminal_runs_chunk_only_when_the_run_is_slow(monkeypatch, capsys, delay, expected_chunks):
-    model = lower(systems.pendulum_angle(0.5))
-    monkeypatch.setattr(runtime.sys.stderr, "isatty", lambda: True, raising=False)
-    monkeypatch.setattr(runtime, "PROGRESS_DELAY", delay)
-    result = runtime.simulate(model, 2.0, rtol=1e-9, atol=1e-11, points=41)
-    assert result.stats["chunks"] == expected_chunks
-    reference = pendulum_angle_reference(result.time, 0.5)
-    assert np.max(np.abs(result["theta"] - reference)) < 1e-6
-    assert ("t = 2 / 2" in capsys.readouterr().err) == (delay == 0.0)
-
-
 def kinked_ramp() -> ReducedSystem:
     """der(x) = max(0, t - 0.37): a kink in the input at t = 0.37, x(t) = max(0, t - 0.37)^2 / 2."""
     x = sympy.Symbol("x")
@@ -195,10 +190,9 @@ def kinked_ramp() -> ReducedSystem:
         initial=InitialProblem([x], [None]), output_names=["x"], metadata={})
 
 
-@pytest.mark.parametrize("chunks", [None, 4])
-def test_breakpoints_stop_the_solver_at_input_kinks(chunks):
-    model = lower(kinked_ramp())
-    options = dict(points=11, rtol=1e-6, atol=1e-8, chunks=chunks)
+def test_breakpoints_stop_the_solver_at_input_kinks():
+    model = lower(kinked_ramp()).replace(time_events=None)      # as if the compiler had not found it
+    options = dict(points=11, rtol=1e-6, atol=1e-8)
     across = runtime.simulate(model, 1.0, **options)
     stopped = runtime.simulate(model, 1.0, breakpoints=[0.37, 5.0], **options)
     assert stopped.time.tolist() == across.time.tolist() and 0.37 not in stopped.time
@@ -206,8 +200,8 @@ def test_breakpoints_stop_the_solver_at_input_kinks(chunks):
     # Stepping across the kink costs rejected steps and accuracy; stopping there costs neither.
     assert np.max(np.abs(stopped["x"] - exact)) < np.max(np.abs(across["x"] - exact))
     assert stopped.stats["error_test_failures"] <= 1 < across.stats["error_test_failures"]
-    model.metadata["breakpoints"] = [0.37]              # the model can carry its own
-    np.testing.assert_array_equal(runtime.simulate(model, 1.0, **options)["x"], stopped["x"])
+    # the compiler writes the kink into the model as a time event: the same run without being told
+    np.testing.assert_array_equal(runtime.simulate(lower(kinked_ramp()), 1.0, **options)["x"], stopped["x"])
 
 
 def test_nominal_values_scale_the_absolute_tolerance_per_unknown():
@@ -215,9 +209,9 @@ def test_nominal_values_scale_the_absolute_tolerance_per_unknown():
     system.metadata["nominals"] = {"C.v": 10.0, "R.i": 0.01}
     model = lower(system)
     assert model.nominals == {"C.v": 10.0, "R.i": 0.01}
-    options = runtime._integrator_options(model, 1e-8, 1e-6, 1000, None)
+    options = integrator_options(model, 1e-8, 1e-6, 1000, None)
     assert options["abstolv"] == pytest.approx([1e-5, 1e-8], rel=1e-15)
-    options = runtime._integrator_options(model, 1e-8, {"*": 1e-6, "R.i": 1e-12}, 1000, None)
+    options = integrator_options(model, 1e-8, {"*": 1e-6, "R.i": 1e-12}, 1000, None)
     assert options["abstolv"] == pytest.approx([1e-5, 1e-12], rel=1e-15)
     result = runtime.simulate(model, 0.5, rtol=1e-9, atol=1e-9)
     np.testing.assert_allclose(result["C.v"], 10 * (1 - np.exp(-result.time / 0.1)), atol=1e-7)

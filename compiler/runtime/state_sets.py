@@ -1,0 +1,105 @@
+"""The numerical state choice: which dummy derivatives a pivoting (Gram–Schmidt) choice takes at a
+point, and how far the current choice is from being replaced, as a function IDAS can watch.
+
+A monitored level (model.state_sets) is {"rows", "candidates", "chosen", "classes", "entries"}: the
+level's Jacobian (rows x candidates, row-major) is the model's outputs `entries`; `chosen` are the
+candidate positions that are dummy derivatives now.
+"""
+from __future__ import annotations
+
+from typing import Mapping, Sequence
+
+import casadi as ca
+import numpy as np
+
+SWITCH_RATIO = 0.5       # switch when swapping one chosen column for another gains this much volume
+_PIVOT_REL_TOL = 1e-8
+
+
+def pivoted_columns(matrix: np.ndarray, classes: Sequence[Sequence[int]], n_rows: int,
+                    rel_tol: float = _PIVOT_REL_TOL) -> list[int]:
+    """Pivoted Gram–Schmidt: within each priority class (in order) take the column with the largest
+    part orthogonal to the columns already chosen, until `n_rows` are chosen. This is the
+    numerical dummy-derivative choice of the compiler, also made again where a run switches."""
+    matrix = np.asarray(matrix, dtype=float)
+    scale = max(1.0, float(np.max(np.abs(matrix)))) if matrix.size else 1.0
+    if matrix.shape[0] == 1:
+        # one constraint row (a pendulum rod): the largest entry of the first usable class
+        row = np.abs(matrix[0])
+        for members in classes:
+            if members:
+                j = max(members, key=lambda k: row[k])
+                if row[j] > rel_tol * scale:
+                    return [j]
+        return []
+    basis = np.zeros((matrix.shape[0], 0))
+    chosen: list[int] = []
+    for members in classes:
+        remaining = list(members)
+        while remaining and len(chosen) < n_rows:
+            best, best_norm, best_vec = None, 0.0, None
+            for j in remaining:
+                col = matrix[:, j]
+                residual = col - basis @ (basis.T @ col) if basis.shape[1] else col.copy()
+                norm = float(np.linalg.norm(residual))
+                if norm > best_norm:
+                    best, best_norm, best_vec = j, norm, residual
+            if best is None or best_norm <= rel_tol * scale:
+                break
+            basis = np.column_stack([basis, best_vec / best_norm])
+            chosen.append(best)
+            remaining.remove(best)
+        if len(chosen) == n_rows:
+            break
+    return chosen
+
+
+def level_matrix(level: Mapping, outputs_column) -> np.ndarray:
+    rows, n_cand = int(level["rows"]), len(level["candidates"])
+    return np.asarray(outputs_column, dtype=float)[level["entries"]].reshape(rows, n_cand)
+
+
+def state_selection_quality(state_sets: Sequence[Mapping], column: np.ndarray) -> tuple[float, int]:
+    """min over the monitored levels of sigma_min(chosen block) / sigma_min(block that pivoting
+    would choose here), 1 where the choice is the best one; and the worst level's index."""
+    quality, worst = 1.0, -1
+    for k, level in enumerate(state_sets):
+        matrix = level_matrix(level, column)
+        rows = int(level["rows"])
+        best = pivoted_columns(matrix, level["classes"], rows)
+        current = list(level["chosen"])
+        if sorted(best) == sorted(current) or len(best) < rows:
+            continue
+        best_sigma = _smallest_singular(matrix[:, best])
+        if best_sigma > 0:
+            ratio = _smallest_singular(matrix[:, current]) / best_sigma
+            if ratio < quality:
+                quality, worst = ratio, k
+    return quality, worst
+
+
+def _smallest_singular(block: np.ndarray) -> float:
+    return float(np.linalg.svd(block, compute_uv=False)[-1]) if block.size else 0.0
+
+
+def switch_indicators(state_sets: Sequence[Mapping], outputs: ca.SX) -> ca.SX:
+    """One function per monitored level that IDAS watches on its own steps: positive while the
+    chosen dummy derivatives hold, crossing zero where exchanging one chosen column for another
+    would multiply the pivot block's determinant by 1 / SWITCH_RATIO or more.
+
+    By Cramer's rule, exchanging chosen column c for candidate j scales det(B) by |(B^-1 a_j)_c|;
+    so the indicator is 1 - SWITCH_RATIO * max |B^-1 A_other|. The exchange back then gains at most
+    SWITCH_RATIO, so a switch is never undone at once (hysteresis for free)."""
+    indicators = []
+    for level in state_sets:
+        rows, n_cand = int(level["rows"]), len(level["candidates"])
+        entries = ca.vertcat(*[outputs[e] for e in level["entries"]])
+        matrix = ca.reshape(entries, n_cand, rows).T            # row-major entries
+        chosen = list(level["chosen"])
+        others = [j for j in range(n_cand) if j not in chosen]
+        if not others:
+            continue
+        block = matrix[:, chosen]
+        ratios = ca.solve(block, matrix[:, others]) if rows > 1 else matrix[:, others] / block
+        indicators.append(1 - SWITCH_RATIO * ca.mmax(ca.fabs(ratios)))
+    return ca.vertcat(*indicators) if indicators else ca.SX(0, 1)
