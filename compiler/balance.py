@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 from compiler.errors import DyadError, Note, Span
 from compiler.flat import INPUT, FlatSystem
-from compiler.structure.graph.matching import maximum_matching
+from compiler.structure.graph.dulmage_mendelsohn import dulmage_mendelsohn
 
 MAX_NOTES = 12
 
@@ -28,13 +28,17 @@ def span_from_text(text: str | None) -> Span | None:
         return None
 
 
-def unknown_names(flat: FlatSystem) -> list[str]:
-    return [v.name for v in flat.variables if v.kind != INPUT]
+def unknown_names(flat: FlatSystem, closed: bool = False) -> list[str]:
+    """The unknowns the model's equations must determine. A top-level input is given from outside
+    when the model is used as a component; a `closed` model (simulated on its own) must determine
+    it too."""
+    return [v.name for v in flat.variables if closed or v.kind != INPUT]
 
 
-def incidence(flat: FlatSystem, equations=None) -> tuple[list[str], list[list[int]]]:
+def incidence(flat: FlatSystem, equations=None, closed: bool = False
+              ) -> tuple[list[str], list[list[int]]]:
     """Unknown names and, per equation, the sorted unknown indices it contains (der(x) -> x)."""
-    names = unknown_names(flat)
+    names = unknown_names(flat, closed)
     index = {name: i for i, name in enumerate(names)}
 
     def base(name: str) -> str:
@@ -103,51 +107,103 @@ def unbalanced_components(flat: FlatSystem) -> list[LocalBalance]:
     return sorted(innermost, key=lambda b: b.path)
 
 
-def check_balance(flat: FlatSystem, structural: bool = True) -> None:
+def check_balance(flat: FlatSystem, structural: bool = True, closed: bool = False) -> None:
     """Raise a located DyadError if the model is unbalanced (or, with `structural`, structurally
-    singular: no complete matching of equations to unknowns)."""
-    names, rows = incidence(flat)
+    singular: no complete matching of equations to unknowns). `closed`: top-level inputs are
+    unknowns too (the model is simulated on its own, nobody drives them)."""
+    names, rows = incidence(flat, closed=closed)
     n_eqs, n_vars = len(rows), len(names)
     if n_eqs == n_vars and not structural:
         return
-    eq_to_var, var_to_eq = maximum_matching(n_eqs, n_vars, rows)
-    free_vars = [names[v] for v in range(n_vars) if var_to_eq[v] == -1]
-    extra_eqs = [e for e in range(n_eqs) if eq_to_var[e] == -1]
-    if n_eqs == n_vars and not free_vars:
+    dm = dulmage_mendelsohn(n_eqs, n_vars, rows)
+    if n_eqs == n_vars and dm.is_square_and_nonsingular:
         return
+    raise _imbalance_error(flat, names, dm, n_eqs, n_vars)
+
+
+def _imbalance_error(flat: FlatSystem, names: list[str], dm, n_eqs: int, n_vars: int) -> DyadError:
+    """Lead with the component whose own count is off (Modelica's local balance): the global
+    matching can only point at some equation of the whole system, often an unrelated one."""
     if n_eqs != n_vars:
-        headline = (f"model `{flat.name}` is unbalanced: {n_eqs} equation(s) for {n_vars} "
-                    f"unknown(s)")
+        summary = f"model `{flat.name}` is unbalanced: {n_eqs} equation(s) for {n_vars} unknown(s)"
     else:
-        headline = (f"model `{flat.name}` is structurally singular: {n_eqs} equations and "
-                    f"unknowns, but they cannot be matched one to one")
-    notes: list[Note] = []
+        summary = (f"model `{flat.name}` is structurally singular: {n_eqs} equations and "
+                   f"unknowns, but they cannot be matched one to one")
+    model_span = span_from_text(flat.metadata.get("model_span"))
     local = unbalanced_components(flat)
-    for b in local[:MAX_NOTES]:
-        notes.append(Note(f"component `{b.path}` ({b.type}) has {b.equations} equation(s) for "
-                          f"{b.unknowns} unknown(s) ({b.provided} provided by its connectors and "
-                          f"inputs)", b.span))
+    notes: list[Note] = []
+    open_notes = _open_connector_notes(flat, [names[v] for v in dm.underdetermined_vars])
+    if local:
+        culprits = ", ".join(f"`{b.path}` ({b.type})" for b in local[:3]) + (", ..." if len(local) > 3 else "")
+        headline = f"{summary}: {'component' if len(local) == 1 else 'components'} {culprits} " \
+                   f"{'is' if len(local) == 1 else 'are'} unbalanced on {'its' if len(local) == 1 else 'their'} own"
+        notes += [Note(f"component `{b.path}` ({b.type}) has {describe(b)}", b.span)
+                  for b in local[:MAX_NOTES]]
+        inside = [b.path for b in local]
+        keep = lambda path: any(path == c or path.startswith(c + ".") for c in inside)  # noqa: E731
+    else:
+        headline = summary
+        if open_notes and n_eqs == n_vars:
+            headline += f": {len(open_notes)} connector(s) are left unconnected"
+        keep = lambda path: True  # noqa: E731
+    notes += _variable_notes(flat, names, dm, keep)
+    notes += _equation_notes(flat, dm, keep)
+    notes += open_notes
+    if local:
+        hint = ("add the missing equations to (or remove the extra ones from) the component "
+                "named first: it is unbalanced on its own, whatever it is connected to")
+    elif dm.unmatched_vars:
+        hint = "add equations for the variables listed, or connect the connectors they belong to"
+    else:
+        hint = "remove the redundant equations listed"
+    return DyadError(headline, model_span, hint=hint, notes=notes)
+
+
+def describe(b: LocalBalance) -> str:
+    needed = b.unknowns - b.provided
+    given = (f"; {b.provided} more, the flows of its connectors and its inputs, are given by its "
+             f"connections" if b.provided else "")
+    return f"{b.equations} equation(s) for {needed} unknown(s){given}"
+
+
+def _variable_notes(flat: FlatSystem, names: list[str], dm, keep) -> list[Note]:
     by_name = {v.name: v for v in flat.variables}
-    for name in free_vars[:MAX_NOTES]:
-        variable = by_name[name]
-        notes.append(Note(f"no equation determines `{name}`", variable.origin.span))
-    if len(free_vars) > MAX_NOTES:
-        notes.append(Note(f"... and {len(free_vars) - MAX_NOTES} more variable(s) without equation"))
-    for e in extra_eqs[:MAX_NOTES]:
+    free = [names[v] for v in dm.unmatched_vars if keep(by_name[names[v]].origin.path)]
+    notes = [Note(f"no equation determines `{name}`", by_name[name].origin.span)
+             for name in free[:MAX_NOTES]]
+    if len(free) > MAX_NOTES:
+        notes.append(Note(f"... and {len(free) - MAX_NOTES} more variable(s) without equation"))
+    return notes
+
+
+def _equation_notes(flat: FlatSystem, dm, keep) -> list[Note]:
+    extra = [e for e in dm.unmatched_eqs if keep(flat.equations[e].origin.path)]
+    notes = []
+    for e in extra[:MAX_NOTES]:
         equation = flat.equations[e]
         where = equation.origin.path or "the model"
         notes.append(Note(f"equation `{equation.residual} = 0` in {where} has no unknown left "
                           f"to determine", equation.origin.span))
-    if len(extra_eqs) > MAX_NOTES:
-        notes.append(Note(f"... and {len(extra_eqs) - MAX_NOTES} more equation(s) without unknown"))
-    if local:
-        hint = "look at the components listed first: each is unbalanced on its own"
-    elif free_vars:
-        hint = "add equations for the variables listed, or connect the connectors they belong to"
-    else:
-        hint = "remove the redundant equations listed"
-    raise DyadError(headline, span_from_text(flat.metadata.get("model_span")), hint=hint,
-                    notes=notes)
+    if len(extra) > MAX_NOTES:
+        notes.append(Note(f"... and {len(extra) - MAX_NOTES} more equation(s) without unknown"))
+    return notes
+
+
+def _open_connector_notes(flat: FlatSystem, undetermined: list[str]) -> list[Note]:
+    """An unconnected connector gets zero flows, so nothing determines its potentials: say so."""
+    undetermined_set = set(undetermined)
+    components = flat.metadata.get("components", {})
+    notes = []
+    for path, info in flat.metadata.get("connectors", {}).items():
+        if info["connected"] or info["owner"] == "":
+            continue
+        loose = [n for names in info["potentials"].values() for n in names if n in undetermined_set]
+        if loose:
+            owner_span = components.get(info["owner"], {}).get("span") or info["span"]
+            notes.append(Note(f"connector `{path}` ({info['type']}) is not connected: its flows are "
+                              f"zero and nothing determines {', '.join(f'`{n}`' for n in loose)}",
+                              span_from_text(owner_span)))
+    return notes
 
 
 def balance_summary(flat: FlatSystem) -> tuple[int, int]:

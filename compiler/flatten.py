@@ -419,11 +419,15 @@ class Flattener:
 
     def _metadata(self, nodes: list[Instance], visual_nodes: set[str]) -> dict:
         components: dict[str, dict] = {}
+        connectors: dict[str, dict] = {}
         instance_metadata: dict[str, dict] = {}
         for node in nodes:
             meta = ast.metadata_dict(getattr(node.resolved.definition, "metadata", None))
             if meta:
                 instance_metadata[node.path] = meta
+            if node.kind == "connector" and node.parent is not None \
+                    and node.parent.path not in visual_nodes:
+                connectors[node.path] = self._connector_info(node)
             if node.kind != "component" or node.path in visual_nodes:
                 continue
             flows: list[str] = []
@@ -442,9 +446,21 @@ class Flattener:
                                      "connector_flows": flows, "inputs": inputs}
         top = instance_metadata.get("", {})
         return {"Dyad": top.get("Dyad", {}), "instances": instance_metadata,
-                "components": components, "bounds": self.bounds,
+                "components": components, "connectors": connectors, "bounds": self.bounds,
+                "declared_partial": bool(getattr(self.root.resolved.definition, "partial", False)),
                 "strings": getattr(self, "_strings", {}),
                 "model_span": span_text(self.root.resolved.definition.span)}
+
+    def _connector_info(self, node: Instance) -> dict:
+        """What the model checks need about a physical connector instance: its type, owner,
+        scalar potential and flow names per field, and whether any `connect` names it."""
+        fields: dict[str, dict[str, list[str]]] = {"potential": {}, "flow": {}}
+        for variable in node.variables.values():
+            if variable.connector_kind in fields:
+                fields[variable.connector_kind][variable.name] = list(variable.names)
+        return {"type": node.resolved.name, "owner": node.parent.path,
+                "span": span_text(node.decl_span), "connected": self.graph.is_connected(node.path),
+                "potentials": fields["potential"], "flows": fields["flow"]}
 
 
 def _inside(path: str, ancestor: str) -> bool:
@@ -461,8 +477,10 @@ def _type_units(variable: VariableInstance) -> str | None:
 # ------------------------------------------------------------------------------- library check
 
 def check_library(root_dir: str) -> list[str]:
-    """Flatten every non-partial component under `root_dir`; one line per component:
-    `ok: Name (E equations, U unknowns)` or the rendered error."""
+    """Check every non-partial component under `root_dir` as `dyadc check` does; one line per
+    component: `ok: Name (E equations, U unknowns)`, `partial: Name: balanced as a component,
+    N open connectors (...)` for a component that cannot run alone, or the rendered error."""
+    from compiler.model_check import assess
     from pathlib import Path
     library = Library([root_dir])
     lines: list[str] = []
@@ -476,11 +494,14 @@ def check_library(root_dir: str) -> list[str]:
             continue
         try:
             flat = flatten_resolved(resolved, library)
-            check_balance(flat, structural=False)
+            verdict = assess(flat)
         except DyadError as err:
             lines.append(f"{resolved.qualified_name}: {err.format()}")
             continue
-        unknowns = sum(1 for v in flat.variables if v.kind != INPUT)
-        lines.append(f"ok: {resolved.qualified_name} ({len(flat.equations)} equations, "
-                     f"{unknowns} unknowns)")
+        if verdict.is_partial:
+            lines.append(f"partial: {resolved.qualified_name}: "
+                         f"{verdict.describe().removeprefix('partial: ')}")
+            continue
+        lines.append(f"ok: {resolved.qualified_name} ({verdict.equations} equations, "
+                     f"{verdict.unknowns} unknowns)")
     return lines

@@ -162,6 +162,10 @@ class ConnectionGraph:
     def is_inside_connected(self, path: str) -> bool:
         return (path, INSIDE) in self._parent
 
+    def is_connected(self, path: str) -> bool:
+        """Named in some `connect`, from inside or from outside."""
+        return (path, INSIDE) in self._parent or (path, OUTSIDE) in self._parent
+
     def sets(self) -> list[ConnectSet]:
         groups: dict[tuple[str, str], ConnectSet] = {}
         for key in sorted(self._parent, key=self._order.__getitem__):

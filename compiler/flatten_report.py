@@ -7,7 +7,9 @@ from collections import Counter
 from compiler.flat import INPUT, FlatSystem
 
 
-def summarize(flat: FlatSystem) -> str:
+def summarize(flat: FlatSystem, verdict=None) -> str:
+    """`verdict` (compiler.model_check.Verdict), when given, replaces the bare count comparison:
+    it says whether the model runs on its own or is partial, and why."""
     from compiler.balance import balance_summary, unbalanced_components
     kinds = Counter(v.kind for v in flat.variables)
     n_eqs, n_unknowns = balance_summary(flat)
@@ -24,8 +26,13 @@ def summarize(flat: FlatSystem) -> str:
                  f"{len(flat.guesses)}")
     if flat.visual:
         lines.append(f"  visual-only instances: {len(flat.visual)}")
-    status = "balanced" if n_eqs == n_unknowns else "UNBALANCED"
-    lines.append(f"  balance: {n_eqs} equations, {n_unknowns} unknowns: {status}")
+    if verdict is not None:
+        lines.append(f"  {verdict.describe()}")
+        if verdict.is_partial:
+            lines.append(f"    closed as it stands: {verdict.reason.message}")
+    else:
+        status = "balanced" if n_eqs == n_unknowns else "UNBALANCED"
+        lines.append(f"  balance: {n_eqs} equations, {n_unknowns} unknowns: {status}")
     for local in unbalanced_components(flat):
         lines.append(f"  warning: component {local.path} ({local.type}) is locally unbalanced: "
                      f"{local.equations} equations for {local.unknowns} unknowns, "

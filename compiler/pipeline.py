@@ -7,6 +7,7 @@ from typing import Sequence
 
 from compiler.flat import FlatSystem
 from compiler.lower_casadi import lower
+from compiler.model_check import require_standalone
 from compiler.runtime import CompiledModel
 from compiler.dynamic import build_variant, monitored_levels
 from compiler.structure.reduce import Analysis, StructureReport, analyse, reduce
@@ -50,6 +51,7 @@ def compile_flat(flat: FlatSystem, timings: dict[str, float] | None = None) -> C
     timings = dict(timings or {})
     report = StructureReport()
     began = time.perf_counter()
+    require_standalone(flat)         # the checks `dyadc check` runs: both say the same
     analysis = analyse(flat)
     report.timings["alias+rank+index"] = time.perf_counter() - began
     reduced = reduce(flat, point=start_point(flat), report=report, analysis=analysis)

@@ -34,7 +34,9 @@ def used_parameters(flat: FlatSystem, expressions: list[sympy.Expr]) -> list[Par
             if ready or not deps:
                 placed.add(sym)
                 binding = p.default if p.default is not None and p.default.free_symbols else None
-                ordered.append(ParameterInfo(p.name, float(p.value), binding, p.tunable))
+                # no value (declared without one): NaN until the caller gives one (-p name=VALUE)
+                value = float(p.value) if p.value is not None else float("nan")
+                ordered.append(ParameterInfo(p.name, value, binding, p.tunable))
             else:
                 stack.append((sym, True))
                 stack.extend((d, False) for d in deps)

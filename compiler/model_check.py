@@ -1,0 +1,180 @@
+"""Can a flat model be simulated on its own? The one set of checks behind both `dyadc check` and
+`simulate` (compiler/pipeline.py), so that the two never disagree.
+
+The checks, on the model closed as it stands (top-level inputs are unknowns nobody drives, the
+flows of top-level connectors are zero): balance, globally and per component instance; a complete
+matching of equations to unknowns; connector sets whose potentials float (no ground / fixed
+reference, compiler/floating.py).
+
+A model that fails them may still be a good component: a `Resistor` with open pins, a `Gain`
+with an open input, a base declared `partial`. Such a model is *partial*: `dyadc check` says so
+("partial: balanced as a component, 2 open connectors (p, n)") and `simulate` refuses it with the
+open connectors named. Balanced as a component means Modelica's rule: its equations, without the
+zero flows of its own open connectors, equal its unknowns minus those flows and its inputs.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from compiler.balance import check_balance, span_from_text, unbalanced_components, unknown_names
+from compiler.errors import DyadError, Note
+from compiler.flat import INPUT, FlatSystem
+from compiler.floating import FloatingCluster, floating_clusters
+
+
+@dataclass(frozen=True)
+class Verdict:
+    model: str
+    equations: int
+    unknowns: int
+    open_connectors: tuple[str, ...] = ()     # physical connectors of the model itself
+    open_inputs: tuple[str, ...] = ()         # its input signals
+    declared_partial: bool = False
+    component_equations: int = 0              # without the zero flows of its open connectors
+    component_unknowns: int = 0               # without those flows and its inputs
+    reason: DyadError | None = None           # why it cannot run on its own (None: it can)
+
+    @property
+    def is_partial(self) -> bool:
+        return self.reason is not None
+
+    @property
+    def open_count(self) -> int:
+        return len(self.open_connectors) + len(self.open_inputs)
+
+    def open_list(self) -> str:
+        return ", ".join(self.open_connectors + self.open_inputs)
+
+    def describe(self) -> str:
+        """One status line for `dyadc check`."""
+        if not self.is_partial:
+            return f"balanced: {self.equations} equations, {self.unknowns} unknowns"
+        opened = (f"{self.open_count} open connector{'s' if self.open_count != 1 else ''}"
+                  + (f" ({self.open_list()})" if self.open_count else ""))
+        if self.component_equations == self.component_unknowns:
+            state = "balanced as a component"
+        else:
+            state = (f"{self.component_equations} equations for {self.component_unknowns} unknowns "
+                     f"as a component")
+        declared = "declared partial, " if self.declared_partial else ""
+        return f"partial: {declared}{state}, {opened}; it cannot be simulated on its own"
+
+    def error(self) -> DyadError:
+        """Why `simulate` refuses a partial model: what is open, and (as a note) what goes wrong
+        when it is closed as it stands."""
+        reason = self.reason
+        opened = {1: f"its connector {self.open_list()} is left open"}.get(
+            self.open_count, f"its {self.open_count} connectors {self.open_list()} are left open")
+        if self.declared_partial:
+            head = f"`{self.model}` is declared partial: an incomplete component, it cannot be simulated"
+            hint = "simulate a model that uses a component extending it"
+        else:
+            head = f"`{self.model}` is a partial model: it cannot be simulated on its own"
+            hint = "simulate a model that uses it"
+        if self.open_count:
+            head += f"; {opened}"
+            hint += f" and connects {self.open_list()}"
+        if self.open_connectors:
+            hint += " (e.g. to sources and a reference such as Ground or Fixed)"
+        if self.open_inputs:
+            hint += "; an input is driven by connecting it to an output (e.g. a Constant block)"
+        notes = [Note(f"closed as it stands, {reason.message}", reason.span)]
+        return DyadError(head, reason.span, hint=hint, notes=notes)
+
+
+def assess(flat: FlatSystem) -> Verdict:
+    """The verdict on `flat`; raises a located DyadError if the model is wrong even as a component."""
+    connectors = flat.metadata.get("connectors") or {}
+    open_connectors = tuple(p for p, info in connectors.items() if info["owner"] == "")
+    open_inputs = tuple(v.name for v in flat.variables if v.kind == INPUT)
+    top_flows = {n for p in open_connectors for names in connectors[p]["flows"].values() for n in names}
+    zero_flows = sum(1 for e in flat.equations
+                     if e.kind == "unconnected_flow" and e.residual.is_Symbol and e.residual.name in top_flows)
+    unknowns = len(unknown_names(flat, closed=True))
+    verdict = Verdict(flat.name, len(flat.equations), unknowns, open_connectors, open_inputs,
+                      bool(flat.metadata.get("declared_partial")),
+                      len(flat.equations) - zero_flows, unknowns - len(top_flows) - len(open_inputs))
+    try:
+        check_closed(flat)
+    except DyadError as err:
+        balanced_as_component = verdict.component_equations == verdict.component_unknowns
+        if verdict.declared_partial or (verdict.open_count and balanced_as_component):
+            return _with_reason(verdict, err)
+        if verdict.open_count and not unbalanced_components(flat):
+            raise _component_imbalance(verdict, err) from None
+        raise
+    if verdict.declared_partial:
+        return _with_reason(verdict, DyadError(f"`{flat.name}` is declared partial",
+                                               span_from_text(flat.metadata.get("model_span"))))
+    return verdict
+
+
+def require_standalone(flat: FlatSystem) -> Verdict:
+    """For `simulate`: a partial model is an error that names its open connectors."""
+    verdict = assess(flat)
+    if verdict.is_partial:
+        raise verdict.error()
+    return verdict
+
+
+def check_closed(flat: FlatSystem) -> None:
+    check_balance(flat, structural=True, closed=True)
+    floating = floating_clusters(flat)
+    if floating:
+        raise floating_error(flat, floating)
+
+
+def floating_error(flat: FlatSystem, clusters: list[FloatingCluster]) -> DyadError:
+    first = clusters[0]
+    sets = " ".join("{" + ", ".join(group) + "}" for group in first.connect_sets)
+    head = (f"nothing fixes the absolute `{first.field}` of the {first.connector_type} connector "
+            f"set{'s' if len(first.connect_sets) > 1 else ''} {sets}: they float, every equation "
+            f"depends only on differences of their `{first.field}`, so the model is singular")
+    notes = [Note(f"the {c.connector_type} connectors "
+                  + " ".join("{" + ", ".join(g) + "}" for g in c.connect_sets)
+                  + f" float in `{c.field}` too", span_from_text(c.span_text)) for c in clusters[1:6]]
+    return DyadError(head, span_from_text(first.span_text)
+                     or span_from_text(flat.metadata.get("model_span")), notes=notes,
+                     hint=f"connect one of these connectors to {first.reference()}")
+
+
+def _component_imbalance(verdict: Verdict, closed: DyadError) -> DyadError:
+    """A model with open connectors whose own count is off: say it in a component's terms (the
+    closed model's notes would blame the zero flows of its open connectors)."""
+    given = verdict.unknowns - verdict.component_unknowns
+    sources = []
+    if verdict.open_connectors:
+        sources.append(f"the flows of its connectors {', '.join(verdict.open_connectors)}")
+    if verdict.open_inputs:
+        sources.append(f"its inputs {', '.join(verdict.open_inputs)}")
+    return DyadError(
+        f"component `{verdict.model}` is unbalanced: {verdict.component_equations} equation(s) for "
+        f"{verdict.component_unknowns} unknown(s) ({given} more, {' and '.join(sources)}, are given "
+        f"by its connections)", closed.span,
+        hint="a component needs one equation per unknown, not counting what its connectors "
+             "receive: add the missing equations or remove the extra ones")
+
+
+def _with_reason(verdict: Verdict, reason: DyadError) -> Verdict:
+    from dataclasses import replace
+    return replace(verdict, reason=reason)
+
+
+def require_parameter_values(flat: FlatSystem, used: set[str], overrides=None) -> None:
+    """Before a run: every parameter the equations use has a value, from its declaration or from
+    the caller (`-p name=VALUE`). A parameter may be declared without one on purpose."""
+    given = set(overrides or ())
+    missing = [p for p in flat.parameters
+               if p.name in used and p.value is None and p.default is None and p.name not in given]
+    if not missing:
+        return
+    first = missing[0]
+    names = ", ".join(f"`{p.name}`" for p in missing)
+    example = " ".join(f"-p {p.name}=VALUE" for p in missing[:3])
+    raise DyadError(
+        f"parameter{'s' if len(missing) > 1 else ''} {names} of `{flat.name}` "
+        f"{'have' if len(missing) > 1 else 'has'} no value", first.origin.span,
+        notes=[Note(f"`{p.name}` is declared here without a value", p.origin.span) for p in missing[1:8]],
+        hint=f"give a value when simulating (`dyadc simulate ... {example}`, or "
+             f"params={{'{first.name}': VALUE}} from Python), or write a default in the "
+             f"declaration: `parameter {first.name.rsplit('.', 1)[-1]}::Real = VALUE`")
