@@ -339,8 +339,19 @@ _COMPARISONS = {"<": sympy.Lt, "<=": sympy.Le, ">": sympy.Gt, ">=": sympy.Ge,
                 "==": sympy.Eq, "!=": sympy.Ne}
 
 
+# Left-associated chains of one family: evaluated in a loop, not by recursing down the left operand.
+_CHAIN_FAMILIES = (frozenset({"+", "-", ".+", ".-"}), frozenset({"*", "/", ".*", "./"}),
+                   frozenset({"and", "&&"}), frozenset({"or", "||"}))
+
+
 def _binary(expr: ast.BinaryOp, scope: EvalScope, mode: Mode) -> Any:
     op = expr.op
+    for family in _CHAIN_FAMILIES:
+        if op in family and isinstance(expr.left, ast.BinaryOp) and expr.left.op in family:
+            return _chain(expr, family, scope, mode)
+    if op in _INTEGER_OPERATORS:
+        return _integer_operator(op, evaluate(expr.left, scope, mode),
+                                 evaluate(expr.right, scope, mode), expr.span)
     left = evaluate(expr.left, scope, mode)
     right = evaluate(expr.right, scope, mode)
     if op in ("and", "or", "&&", "||"):
@@ -360,6 +371,56 @@ def _binary(expr: ast.BinaryOp, scope: EvalScope, mode: Mode) -> Any:
         return _arith(op, left, right, expr.span)
     except TypeError as exc:
         raise DyadError(f"invalid operands for `{op}`: {exc}", expr.span) from exc
+
+
+def _chain(expr: ast.BinaryOp, family: frozenset, scope: EvalScope, mode: Mode) -> Any:
+    """`a + b - c + ...` (a 20000-term sum is a 20000-deep left chain): one loop, and for
+    scalars one flat sympy Add or Mul instead of re-flattening a growing sum at every term."""
+    first, links = ast.left_chain(expr, family)
+    if "and" in family or "or" in family:
+        conditions = [to_bool(evaluate(first, scope, mode), expr.span)]
+        conditions += [to_bool(evaluate(link.right, scope, mode), link.span) for link in links]
+        return sympy.And(*conditions) if "and" in family else sympy.Or(*conditions)
+    values = [_num(evaluate(first, scope, mode), expr.span)]
+    values += [_num(evaluate(link.right, scope, mode), link.span) for link in links]
+    if not any(is_array(v) for v in values):
+        if "+" in family:
+            return sympy.Add(values[0], *(v if link.op in ("+", ".+") else -v
+                                          for link, v in zip(links, values[1:])))
+        return sympy.Mul(values[0], *(v if link.op in ("*", ".*") else sympy.Pow(v, -1)
+                                      for link, v in zip(links, values[1:])))
+    result = values[0]
+    for link, value in zip(links, values[1:]):
+        try:
+            result = _arith(link.op, result, value, link.span)
+        except TypeError as exc:
+            raise DyadError(f"invalid operands for `{link.op}`: {exc}", link.span) from exc
+    return result
+
+
+# Julia's integer operators: `%` and rem() keep the sign of the dividend, mod() that of the
+# divisor, `÷` and div() truncate toward zero. Written with floor/sign/abs, which every later pass
+# (sympy, CasADi, C code) knows.
+_INTEGER_OPERATORS = {"%": "rem", "÷": "div"}
+
+
+def _truncate(x: Any) -> Any:
+    return sympy.sign(x) * sympy.floor(sympy.Abs(x))
+
+
+def _integer_operator(name: str, left: Any, right: Any, span: Span | None) -> Any:
+    name = _INTEGER_OPERATORS.get(name, name)
+    a, b = _num(left, span), _num(right, span)
+    if is_array(a) or is_array(b):
+        raise DyadError(f"`{name}` needs scalars", span)
+    a, b = sympy.sympify(a), sympy.sympify(b)
+    if b.is_zero:
+        raise DyadError(f"`{name}` by zero", span)
+    if name == "mod":
+        return a - b * sympy.floor(a / b)
+    if name == "rem":
+        return a - b * _truncate(a / b)
+    return _truncate(a / b)
 
 
 def _arith(op: str, left: Any, right: Any, span: Span | None) -> Any:
@@ -503,9 +564,16 @@ def _filled(value: Any, shape: tuple[int, ...]) -> np.ndarray:
 
 def _call(expr: ast.Call, scope: EvalScope, mode: Mode) -> Any:
     name, span = expr.function, expr.span
-    if name == "der":
+    if name in ("mod", "rem", "div") and not expr.kwargs:
+        if len(expr.args) != 2:
+            raise DyadError(f"`{name}` takes two arguments", span)
+        return _integer_operator(name, evaluate(expr.args[0], scope, mode),
+                                 evaluate(expr.args[1], scope, mode), span)
+    if name in ("minimum", "maximum"):
+        name = name[:3]         # Julia's reductions over an array; min/max take arrays too
+    if name in ("der", "D"):    # `D(x)` is Dyad's spelling of der(x)
         if len(expr.args) != 1:
-            raise DyadError("`der` takes one argument", span)
+            raise DyadError(f"`{name}` takes one argument", span)
         if mode is not Mode.SYMBOLIC:
             raise DyadError("`der` cannot be used in a parameter expression", span)
         value = _num(evaluate(expr.args[0], scope, mode), span)

@@ -121,10 +121,9 @@ class BinaryOp:
         while isinstance(node, BinaryOp):
             chain.append(node)
             node = node.left
-        text = repr(node)
-        for link in reversed(chain):
-            text = f"BinaryOp(op={link.op!r}, left={text}, right={link.right!r})"
-        return text
+        heads = "".join(f"BinaryOp(op={link.op!r}, left=" for link in chain)
+        tails = "".join(f", right={link.right!r})" for link in reversed(chain))
+        return heads + repr(node) + tails
 
 
 def left_chain(expr: "BinaryOp", ops) -> tuple["Expr", list["BinaryOp"]]:

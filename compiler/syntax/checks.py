@@ -36,17 +36,18 @@ def _check_body(definition) -> None:
                   f"{kind} `{definition.name}`")
     parameters = {d.name: d for d in definition.declarations if isinstance(d, ast.ParameterDecl)}
     for call in _calls(definition.relations):
-        if call.function != "der":
+        if call.function not in ("der", "D"):
             continue
         if len(call.args) != 1 or call.kwargs:
-            raise DyadError("`der` takes exactly one argument, the expression to differentiate "
-                            "in time", call.span)
+            raise DyadError(f"`{call.function}` takes exactly one argument, the expression to "
+                            "differentiate in time", call.span)
         target = call.args[0]
         if isinstance(target, ast.Ref) and len(target.parts) == 1 \
                 and target.parts[0].name in parameters:
             parameter = parameters[target.parts[0].name]
             raise DyadError(
-                f"`der({parameter.name})` differentiates a parameter, which is constant in time",
+                f"`{call.function}({parameter.name})` differentiates a parameter, which is "
+                "constant in time",
                 call.span, hint=f"declare `{parameter.name}` as a `variable` if it changes",
                 notes=[Note(f"`{parameter.name}` is declared as a parameter here",
                             parameter.span)])

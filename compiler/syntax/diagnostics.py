@@ -14,6 +14,8 @@ _PUNCTUATION = {
     "VBAR": "|", "PLUS": "+", "MINUS": "-", "STAR": "*", "SLASH": "/", "CARET": "^", "BANG": "!",
     "DOT_PLUS": ".+", "DOT_MINUS": ".-", "DOT_STAR": ".*", "DOT_SLASH": "./", "DOT_CARET": ".^",
     "OR": "or", "AND": "and", "PIPE_PIPE": "||", "AMP_AMP": "&&", "END_INDEX": "end", "__ANON_0": "∈", "_ROWSEP": ";",
+    "QMARK": "?", "PERCENT": "%", "INT_DIV": "÷", "META_OPEN": "[", "TERNARY_ELSE": ":",
+    "AP_COLON": ":",
 }
 _DESCRIPTIONS = {
     "NAME": "a name", "NUMBER": "a number", "STRING": "a string", "LONG_STRING": "a string",
@@ -25,7 +27,7 @@ _EXPRESSION_STARTS = {"NAME", "NUMBER", "STRING", "LONG_STRING", "LPAR", "LSQB",
 _DECLARATION_STARTS = {"PARAMETER", "VARIABLE", "FINAL", "STRUCTURAL", "CONSTANT", "EXTENDS",
                        "INPUT", "OUTPUT"}
 _DEFINITION_STARTS = {"COMPONENT", "CONNECTOR", "ANALYSIS", "TYPE", "ENUM", "USING", "PARTIAL",
-                      "EXAMPLE", "TEST", "EXTERNAL"}
+                      "EXAMPLE", "TEST", "EXTERNAL", "STRUCT"}
 _RELATION_ONLY = {"INITIAL", "GUESS", "CONNECT", "FOR"}
 _SECTION_WORDS = {"RELATIONS", "METADATA"}
 # Order in which expected tokens are listed: the likeliest fix first.
@@ -145,6 +147,9 @@ def _special_case(tok: Token, expected: set[str], blocks: list[OpenBlock], token
                   found: str, span: Span) -> DyadError | None:
     innermost = blocks[-1] if blocks else None
     prev = _previous_significant(tokens, index)
+    legacy = _legacy_form(tok, tokens, index, innermost, span)
+    if legacy is not None:
+        return legacy
     adjacent = tokens[index - 1] if 0 < index <= len(tokens) else None
     if prev is not None and prev.type == "DOCSTRING" and tok.type in ("END", "$END"):
         return DyadError("a docstring must be followed by the definition, declaration or relation "
@@ -188,6 +193,24 @@ def _special_case(tok: Token, expected: set[str], blocks: list[OpenBlock], token
         return DyadError("expected an operator or `,` between two expressions, found a space",
                          span, hint="inside `[...]` a space separates matrix elements; elsewhere "
                                     "write an operator, e.g. `2 * x` instead of `2 x`")
+    return None
+
+
+def _legacy_form(tok: Token, tokens, index, innermost, span: Span) -> DyadError | None:
+    """`model Name ... begin ... end`: the syntax of early Dyad releases."""
+    following = tokens[index + 1] if index + 1 < len(tokens) else None
+    if tok.type == "NAME" and tok.value == "model" and innermost is None \
+            and following is not None and following.type == "NAME":
+        return DyadError("`model ... begin ... end` is the legacy Dyad syntax, which dyadc does "
+                         "not read", span,
+                         hint=f"write `component {following.value}`, its declarations, then "
+                              "`relations` where `begin` was, and `end`")
+    previous = tokens[index - 1] if 0 < index <= len(tokens) else None
+    begin = tok if tok.type == "NAME" and tok.value == "begin" else previous
+    if begin is not None and begin.type == "NAME" and begin.value == "begin" \
+            and innermost is not None:
+        return DyadError("`begin` is legacy Dyad syntax", _token_span(begin, span.file),
+                         hint="the relations of a component follow the keyword `relations`")
     return None
 
 

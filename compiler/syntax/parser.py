@@ -4,6 +4,8 @@ Public API: parse_source, parse_file, parse_expression, tokenize, summarize.
 """
 from __future__ import annotations
 
+import gc
+from contextlib import contextmanager
 from functools import lru_cache
 from pathlib import Path
 
@@ -49,7 +51,25 @@ def tokenize(text: str, filename: str) -> list[Token]:
     return tokens
 
 
+@contextmanager
+def _no_cycle_collection():
+    """Parsing allocates many long-lived, acyclic objects (tokens, trees, AST nodes); the cycle
+    collector would rescan them again and again (a 20000-term sum parses 2x faster without)."""
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if enabled:
+            gc.enable()
+
+
 def _parse_tokens(parser: Lark, text: str, filename: str, docstrings: bool = True):
+    with _no_cycle_collection():
+        return _parse_tokens_unguarded(parser, text, filename, docstrings)
+
+
+def _parse_tokens_unguarded(parser: Lark, text: str, filename: str, docstrings: bool):
     raw = tokenize(text, filename)
     try:
         arranged = arrange(raw, docstrings)

@@ -63,7 +63,7 @@ _refs = st.lists(_names, min_size=1, max_size=3).map(
     lambda names: ast.Ref(tuple(ast.RefPart(n) for n in names)))
 _atoms = st.one_of(_numbers, _refs, st.booleans().map(ast.Boolean),
                    st.sampled_from(["m", "rad/s", ""]).map(ast.String))
-_binary_ops = st.sampled_from(["+", "-", "*", "/", "^", ".*", ".^", "<", "==", "!=", ">=",
+_binary_ops = st.sampled_from(["+", "-", "*", "/", "^", ".*", ".^", "%", "÷", "<", "==", "!=", ">=",
                                "and", "or"])
 
 
