@@ -384,7 +384,8 @@ class Flattener:
     def _flat_parameters(self, parameter: ParameterInstance) -> list[Parameter]:
         value = parameter.value()
         if value is None and parameter.binding is None:
-            self.warnings.append(f"{parameter.span}: parameter `{parameter.path}` has no value")
+            self.warnings.append(f"{parameter.span}: parameter `{parameter.path}` has no value: "
+                                 f"give one when simulating (-p {parameter.path}=VALUE)")
         default = parameter.symbolic_default()
         values = _scalars(value) if value is not None else [None] * len(parameter.flat_names())
         defaults = _scalars(default) if default is not None else [None] * len(values)
