@@ -281,4 +281,11 @@ def _span_of(tok: Token, tokens: list[Token], filename: str) -> Span:
             return Span(filename, 1, 1, 1, 1)
         last = tokens[-1]
         return Span(filename, last.end_line, last.end_column, last.end_line, last.end_column)
+    if tok.type == "_NL":
+        # A line break carries the position of the next line's first token; "found end of
+        # line" should point where the line ends.
+        index = _index_of(tok, tokens)
+        if 0 < index <= len(tokens):
+            last = tokens[index - 1]
+            return Span(filename, last.end_line, last.end_column, last.end_line, last.end_column)
     return _token_span(tok, filename)
