@@ -462,7 +462,7 @@ class ComponentDef:
     doc: str | None = None
     metadata: str | None = None
     span: Span | None = _NO_SPAN
-    # `external component`: behaviour implemented outside Dyad (in Julia); only its interface is here
+    # `external component`: behaviour implemented outside Dyad (in Julia); only its interface here
     external: bool = False
 
 

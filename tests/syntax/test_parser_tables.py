@@ -122,3 +122,10 @@ def test_unreadable_tables_fall_back(tmp_path, monkeypatch, text):
     monkeypatch.setattr(lalr, "TABLES_PATH", broken)
     assert lalr._read_tables() is None
     assert lalr.load_parser() is not None
+
+
+def test_grammar_has_no_shift_reduce_conflicts():
+    """lark resolves shift/reduce conflicts silently as shifts; strict mode makes them errors, so
+    a grammar edit cannot quietly change how existing sources parse."""
+    from lark import Lark
+    Lark(lalr.grammar_text(), **dict(lalr._options(), strict=True))
