@@ -87,6 +87,29 @@ def test_a_standalone_module_runs_where_only_casadi_and_numpy_are_installed(bare
     assert list(empty.iterdir()) == []
 
 
+def test_every_module_of_the_standalone_copy_imports_with_casadi_and_numpy_alone(bare_python, tmp_path):
+    """Catches an absolute `compiler.` import (or a top-level import of an optional package) in any
+    module of the runtime package, including those the module itself loads only on demand."""
+    out = tmp_path / "module"
+    _compile(out, "--standalone")
+    script = ("import importlib, json, pkgutil, dyad_runtime\n"
+              "names = [m.name for m in pkgutil.walk_packages(dyad_runtime.__path__, 'dyad_runtime.')]\n"
+              "for name in names:\n"
+              "    importlib.import_module(name)\n"
+              "print(json.dumps(names))\n")
+    done = _run(bare_python, script, tmp_path, out)
+    assert done.returncode == 0, done.stderr
+    imported = json.loads(done.stdout.strip().splitlines()[-1])
+    source = ROOT / "compiler" / "runtime"
+    expected = set()
+    for path in source.rglob("*.py"):
+        parts = path.relative_to(source).with_suffix("").parts
+        parts = parts[:-1] if parts[-1] == "__init__" else parts
+        if parts and "__pycache__" not in parts:
+            expected.add(".".join(("dyad_runtime",) + parts))
+    assert set(imported) == expected
+
+
 def test_the_standalone_copy_is_the_whole_runtime_package(tmp_path):
     out = tmp_path / "module"
     (out / "dyad_runtime").mkdir(parents=True)
