@@ -47,10 +47,10 @@ def _options() -> dict:
                 propagate_positions=True, maybe_placeholders=False, cache=False)
 
 
-def fingerprint(text: str) -> str:
+def fingerprint(text: str, lark_version: str = lark.__version__) -> str:
     """What the tables depend on: grammar, options (the lexer by name) and lark's version."""
     options = {k: (v.__name__ if isinstance(v, type) else v) for k, v in _options().items()}
-    payload = json.dumps([text, options, lark.__version__], sort_keys=True)
+    payload = json.dumps([text, options, lark_version], sort_keys=True)
     return hashlib.sha256(payload.encode("utf-8")).hexdigest()
 
 

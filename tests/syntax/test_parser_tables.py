@@ -88,7 +88,8 @@ def test_parsing_writes_nothing_to_the_temp_folder(tmp_path):
 def test_packaged_tables_match_the_grammar():
     tables = lalr._read_tables()
     assert tables is not None, "compiler/syntax/lalr_tables.json is missing"
-    assert tables["fingerprint"] == lalr.fingerprint(lalr.grammar_text()), (
+    # Judged with the lark version that wrote them: under another lark they are merely unused.
+    assert tables["fingerprint"] == lalr.fingerprint(lalr.grammar_text(), tables["lark"]), (
         "the grammar changed: regenerate the tables with `python -m compiler.syntax.lalr`")
 
 
