@@ -3,6 +3,7 @@ check every request against the compiled model, run the samples, collect the out
 from __future__ import annotations
 
 import difflib
+import multiprocessing
 import os
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -11,7 +12,8 @@ from typing import Callable, Mapping, Sequence
 from compiler.errors import DyadError, Note
 from compiler.runtime import CompiledModel
 from compiler.sweep.design import Design, as_design
-from compiler.sweep.engine import run_dask, run_serial
+from compiler.sweep.engine import require_dask, run_dask, run_serial
+from compiler.sweep.interrupt import DeferredInterrupt
 from compiler.sweep.metrics import Metric, parse_metrics
 from compiler.sweep.progress import SweepProgress
 from compiler.sweep.result import SweepResult
@@ -55,6 +57,13 @@ def sweep(model, grid_or_samples, options: SweepOptions | Mapping, scheduler: st
     $DASK_SCHEDULER_ADDRESS, else a LocalCluster; `options.serial` runs here without Dask)."""
     if isinstance(options, Mapping):
         options = SweepOptions(**options)
+    if not options.serial:
+        require_dask()
+        if multiprocessing.parent_process() is not None:
+            raise DyadError("sweep() was called while a worker process was starting: the script that "
+                            "calls it is being re-imported by the worker",
+                            hint="put the call under `if __name__ == \"__main__\":` (worker processes "
+                                 "are spawned and import the main script), or use serial=True")
     compiled, flat_parameters = _compile(model, options.lib_dirs)
     design = as_design(grid_or_samples)
     fixed = {**design.fixed, **{k: float(v) for k, v in options.params.items()}}
@@ -67,19 +76,23 @@ def sweep(model, grid_or_samples, options: SweepOptions | Mapping, scheduler: st
     outcomes: dict[int, Outcome] = {}
     bar = SweepProgress(len(samples), options.progress)
 
+    interrupt = DeferredInterrupt()
+
     def report(outcome: Outcome) -> None:
         outcomes[outcome.sample] = outcome
         bar.advance(1, 0 if outcome.ok else 1)
         if options.on_sample is not None:
             options.on_sample(outcome)
+        interrupt.check()
 
     scheduler = scheduler or os.environ.get("DASK_SCHEDULER_ADDRESS") or None
     try:
-        if options.serial:
-            stats = run_serial(payload, job, samples, report)
-        else:
-            stats = run_dask(payload, job, samples, report, scheduler=scheduler,
-                             workers=options.workers, batch=options.batch_size)
+        with interrupt:
+            if options.serial:
+                stats = run_serial(payload, job, samples, report)
+            else:
+                stats = run_dask(payload, job, samples, report, scheduler=scheduler,
+                                 workers=options.workers, batch=options.batch_size, poll=interrupt.check)
     except KeyboardInterrupt:
         bar.close()
         partial = SweepResult(compiled.name, design, job, outcomes, complete=False)

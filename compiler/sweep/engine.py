@@ -15,6 +15,7 @@ import math
 import os
 import signal
 import threading
+import time
 import uuid
 from typing import Callable, Iterator, Sequence
 
@@ -54,7 +55,8 @@ def default_workers() -> int:
 
 def run_dask(payload: ModelPayload, job: Job, samples: Sequence[Sample], report: Report, *,
              scheduler: str | None = None, workers: int | None = None,
-             batch: int | None = None) -> dict:
+             batch: int | None = None, poll: Callable[[], None] = lambda: None) -> dict:
+    """`poll` is called while waiting for results (it raises KeyboardInterrupt on Ctrl-C)."""
     samples = list(samples)
     if not samples:
         return {"engine": "dask", "workers": 0, "batch_size": 0}
@@ -69,12 +71,12 @@ def run_dask(payload: ModelPayload, job: Job, samples: Sequence[Sample], report:
                  "scheduler": scheduler or "LocalCluster", "pilot_seconds": pilot.seconds}
         if rest:
             _run_batches(client, payload, job, [rest[i:i + size] for i in range(0, len(rest), size)],
-                         report)
+                         report, poll)
     return stats
 
 
 def _run_batches(client, payload: ModelPayload, job: Job, batches: list[list[Sample]],
-                 report: Report) -> None:
+                 report: Report, poll: Callable[[], None]) -> None:
     from distributed import as_completed
     model = client.scatter(payload, broadcast=True, hash=False)
     token = uuid.uuid4().hex[:8]
@@ -85,7 +87,7 @@ def _run_batches(client, payload: ModelPayload, job: Job, batches: list[list[Sam
         futures.append(future)
         batch_of[future.key] = batch
     try:
-        for future in as_completed(futures):
+        for future in _completed(as_completed(futures), poll):
             try:
                 outcomes = future.result()
             except (ImportError, AttributeError) as err:
@@ -98,8 +100,20 @@ def _run_batches(client, payload: ModelPayload, job: Job, batches: list[list[Sam
             for outcome in outcomes:
                 report(outcome)
     except BaseException:
-        client.cancel(futures, force=True)
+        client.cancel(futures + [model], force=True)
         raise
+    finally:
+        model.release()
+
+
+def _completed(pending, poll: Callable[[], None], interval: float = 0.05) -> Iterator:
+    """Finished futures as they come, calling `poll` at least every `interval` seconds."""
+    while not pending.is_empty():
+        ready = pending.next_batch(block=False) if pending.has_ready() else []
+        yield from ready
+        poll()
+        if not ready:
+            time.sleep(interval)
 
 
 def _task_failure(err: Exception) -> str:
@@ -109,16 +123,22 @@ def _task_failure(err: Exception) -> str:
     return f"the task running this sample failed: {type(err).__name__}: {err}"
 
 
-@contextlib.contextmanager
-def dask_client(scheduler: str | None, workers: int | None) -> Iterator:
-    """A distributed.Client on `scheduler` (an address), or on a LocalCluster of `workers`
-    single-threaded worker processes (default: one per core), closed on exit."""
+def require_dask() -> None:
+    """Say how to get Dask before anything is compiled or run."""
     try:
-        from distributed import Client, LocalCluster
+        import distributed  # noqa: F401
     except ImportError:
         raise DyadError("dyadc sweep runs its samples on Dask (dask.distributed), which is not installed",
                         hint="pip install 'dyadc[sweep]' (make install does), or run the samples one "
                              "after another with --serial") from None
+
+
+@contextlib.contextmanager
+def dask_client(scheduler: str | None, workers: int | None) -> Iterator:
+    """A distributed.Client on `scheduler` (an address), or on a LocalCluster of `workers`
+    single-threaded worker processes (default: one per core), closed on exit."""
+    require_dask()
+    from distributed import Client, LocalCluster
     cluster = None
     if scheduler:
         try:
@@ -131,7 +151,7 @@ def dask_client(scheduler: str | None, workers: int | None) -> Iterator:
     else:
         with _interrupts_ignored_by_children():
             cluster = LocalCluster(n_workers=workers or default_workers(), threads_per_worker=1,
-                                   processes=True, dashboard_address=None,
+                                   processes=True, dashboard_address=":0",
                                    silence_logs=logging.ERROR)
         client = Client(cluster)
     try:
@@ -141,10 +161,30 @@ def dask_client(scheduler: str | None, workers: int | None) -> Iterator:
             raise DyadError(f"the Dask scheduler at {scheduler} has no workers",
                             hint=f"start some: dask worker {scheduler}") from None
         yield client
+    except BaseException:
+        # Torn down on purpose (Ctrl-C, an error): the scheduler's complaints about tasks it can no
+        # longer report on are noise then, not news.
+        with _quiet("distributed"):
+            _close(client, cluster)
+        raise
+    _close(client, cluster)
+
+
+def _close(client, cluster) -> None:
+    client.close()
+    if cluster is not None:
+        cluster.close()
+
+
+@contextlib.contextmanager
+def _quiet(name: str) -> Iterator[None]:
+    logger = logging.getLogger(name)
+    previous = logger.level
+    logger.setLevel(logging.CRITICAL + 1)
+    try:
+        yield
     finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+        logger.setLevel(previous)
 
 
 @contextlib.contextmanager

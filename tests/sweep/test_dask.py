@@ -21,7 +21,7 @@ from tests.sweep.models import write_decay  # noqa: E402
 
 ROOT = Path(__file__).resolve().parents[2]
 BIN = Path(sys.executable).parent
-GRID = {"k": [0.5, 1.0, 2.0, 4.0], "c": [0.3, -2.0, 0.0], "x0": [1.0, 2.0]}      # 24 samples, the 8 with c < 0 fail
+GRID = {"k": [0.5, 1.0, 2.0, 4.0], "c": [0.3, -2.0, 1.0], "x0": [1.0, 2.0]}      # 24 samples, the 8 with c < 0 fail
 RUN = dict(stop=4.0, points=401, metrics=["final(x)", "peak=max(abs(y[2]))"], variables=["x", "y[1]"])
 
 
@@ -166,7 +166,7 @@ def test_cli_on_a_dask_scheduler_and_worker_started_as_commands(decay_file, seri
     out = tmp_path / "sweep.csv"
     done = subprocess.run(
         [str(BIN / "dyadc"), "sweep", str(decay_file), "--stop", "4",
-         "--points", "401", "-p", "k=[0.5,1,2,4]", "-p", "c=[0.3,-2,0]", "-p", "x0=[1,2]",
+         "--points", "401", "-p", "k=[0.5,1,2,4]", "-p", "c=[0.3,-2,1]", "-p", "x0=[1,2]",
          "--vars", "x", "y[1]", "--metrics", "final(x)", "peak=max(abs(y[2]))",
          "--scheduler", scheduler_and_worker, "--output", str(out)],
         capture_output=True, text=True, cwd=tmp_path, timeout=300)
