@@ -16,10 +16,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from compiler.balance import check_balance, span_from_text, unbalanced_components, unknown_names
+from compiler.balance import check_balance, incidence, span_from_text, unbalanced_components, \
+    unknown_names
 from compiler.errors import DyadError, Note
 from compiler.flat import INPUT, FlatSystem
 from compiler.floating import FloatingCluster, floating_clusters
+from compiler.structure.graph.dulmage_mendelsohn import dulmage_mendelsohn
 
 
 @dataclass(frozen=True)
@@ -101,7 +103,7 @@ def assess(flat: FlatSystem) -> Verdict:
         if verdict.declared_partial or (verdict.open_count and balanced_as_component):
             return _with_reason(verdict, err)
         if verdict.open_count and not unbalanced_components(flat):
-            raise _component_imbalance(verdict, err) from None
+            raise _component_imbalance(flat, verdict, err, top_flows) from None
         raise
     if verdict.declared_partial:
         return _with_reason(verdict, DyadError(f"`{flat.name}` is declared partial",
@@ -138,9 +140,11 @@ def floating_error(flat: FlatSystem, clusters: list[FloatingCluster]) -> DyadErr
                      hint=f"connect one of these connectors to {first.reference()}")
 
 
-def _component_imbalance(verdict: Verdict, closed: DyadError) -> DyadError:
+def _component_imbalance(flat: FlatSystem, verdict: Verdict, closed: DyadError,
+                         top_flows: set[str]) -> DyadError:
     """A model with open connectors whose own count is off: say it in a component's terms (the
-    closed model's notes would blame the zero flows of its open connectors)."""
+    closed model's notes would blame the zero flows of its open connectors), and name the culprit
+    equation set from the Dulmage-Mendelsohn partition of the component's own system."""
     given = verdict.unknowns - verdict.component_unknowns
     sources = []
     if verdict.open_connectors:
@@ -150,9 +154,35 @@ def _component_imbalance(verdict: Verdict, closed: DyadError) -> DyadError:
     return DyadError(
         f"component `{verdict.model}` is unbalanced: {verdict.component_equations} equation(s) for "
         f"{verdict.component_unknowns} unknown(s) ({given} more, {' and '.join(sources)}, are given "
-        f"by its connections)", closed.span,
+        f"by its connections)", closed.span, notes=_culprit_notes(flat, top_flows),
         hint="a component needs one equation per unknown, not counting what its connectors "
              "receive: add the missing equations or remove the extra ones")
+
+
+def _culprit_notes(flat: FlatSystem, top_flows: set[str]) -> list[Note]:
+    """The component's own equations plus what its environment will supply: per flow of an open
+    connector one equation in that connector's variables (whatever it gets connected to relates
+    them), per input one equation fixing it. The over- or under-determined part names the culprit."""
+    own = [e for e in flat.equations
+           if not (e.kind == "unconnected_flow" and e.residual.is_Symbol and e.residual.name in top_flows)]
+    names, rows = incidence(flat, own, closed=True)
+    index = {n: i for i, n in enumerate(names)}
+    for info in (flat.metadata.get("connectors") or {}).values():
+        if info["owner"] != "":
+            continue
+        members = sorted(index[n] for group in ("potentials", "flows")
+                         for names_ in info[group].values() for n in names_ if n in index)
+        rows += [members for names_ in info["flows"].values() for _ in names_]
+    rows += [[index[v.name]] for v in flat.variables if v.kind == INPUT]
+    dm = dulmage_mendelsohn(len(rows), len(names), rows)
+    over = [e for e in dm.overdetermined_eqs if e < len(own)]
+    notes = [Note(f"over-determined: `{own[e].residual} = 0` ({own[e].origin.path or 'the component'})",
+                  own[e].origin.span) for e in over[:6]]
+    if dm.underdetermined_vars:
+        under = [names[v] for v in dm.underdetermined_vars]
+        notes.append(Note(f"under-determined: nothing determines all of "
+                          f"{', '.join(under[:8])}{' ...' if len(under) > 8 else ''}"))
+    return notes
 
 
 def _with_reason(verdict: Verdict, reason: DyadError) -> Verdict:
