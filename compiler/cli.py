@@ -117,7 +117,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="per-sample scalars, e.g. 'max(abs(tip.y))' or 'peak=max(soil.F_y)'")
     p.add_argument("--output", metavar="FILE.parquet|FILE.csv",
                    help="trajectories; the per-sample table goes to FILE.samples.EXT")
-    p.add_argument("--plot", metavar="FILE.png", help="fan chart of --vars, scatter of the first metric")
+    p.add_argument("--plot", metavar="FILE.png", help="fan charts of the first three --vars over time, "
+                                                      "scatters of each metric against each swept parameter")
     p.add_argument("--serial", action="store_true", help="run the samples here, one after another (no Dask)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="an existing Dask scheduler, e.g. tcp://host:8786 (default $DASK_SCHEDULER_ADDRESS, "

@@ -64,14 +64,18 @@ def run_dask(payload: ModelPayload, job: Job, samples: Sequence[Sample], report:
     pilot = run_sample(load_model(payload), job, *samples[0])
     report(pilot)
     rest = samples[1:]
+    began = time.perf_counter()
     with dask_client(scheduler, workers) as client:
         n_workers = max(1, len(client.scheduler_info().get("workers", {})))
         size = batch or batch_size(pilot.seconds, len(rest), n_workers)
         stats = {"engine": "dask", "workers": n_workers, "batch_size": size,
-                 "scheduler": scheduler or "LocalCluster", "pilot_seconds": pilot.seconds}
+                 "scheduler": scheduler or "LocalCluster", "pilot_seconds": pilot.seconds,
+                 "connect_seconds": time.perf_counter() - began}
+        began = time.perf_counter()
         if rest:
             _run_batches(client, payload, job, [rest[i:i + size] for i in range(0, len(rest), size)],
                          report, poll)
+        stats["run_seconds"] = time.perf_counter() - began
     return stats
 
 

@@ -1,5 +1,5 @@
 """The summary picture of a sweep: a fan chart of each chosen signal over time (median, 25-75 % and
-5-95 % bands, the extremes dotted) and a scatter of one metric against each swept parameter.
+5-95 % bands, the extremes dotted) and a scatter of each metric against each swept parameter.
 Drawn on a matplotlib.figure.Figure: pyplot and the process's backend are never touched."""
 from __future__ import annotations
 
@@ -13,19 +13,21 @@ from compiler.errors import DyadError
 from compiler.sweep.writers import atomic_write
 
 MAX_SIGNALS = 3
-MAX_PARAMETERS = 4
+MAX_SCATTERS = 4
 
 
-def summary_figure(result, signals: Sequence[str], metric: str | None):
+def summary_figure(result, signals: Sequence[str], metrics: Sequence[str]):
+    """Fan charts of `signals` in the first row; below, each metric against each swept parameter
+    (at most MAX_SCATTERS panels, metrics first)."""
     from matplotlib.figure import Figure
 
     signals = list(signals)[:MAX_SIGNALS]
-    parameters = list(result.parameters)[:MAX_PARAMETERS]
-    rows = [r for r, wanted in (("fan", signals), ("scatter", metric and parameters)) if wanted]
+    pairs = [(m, p) for m in metrics for p in result.parameters][:MAX_SCATTERS]
+    rows = [r for r, wanted in (("fan", signals), ("scatter", pairs)) if wanted]
     if not rows:
         raise DyadError("nothing to plot: the sweep recorded no signals and no metric",
                         hint="add --vars NAME ... or --metrics EXPR")
-    columns = max(len(signals) if "fan" in rows else 1, len(parameters) if "scatter" in rows else 1)
+    columns = max(len(signals) if "fan" in rows else 1, len(pairs) if "scatter" in rows else 1)
     figure = Figure(figsize=(4.2 * columns, 3.4 * len(rows)), layout="constrained")
     grid = figure.add_gridspec(len(rows), columns)
     row = 0
@@ -34,10 +36,10 @@ def summary_figure(result, signals: Sequence[str], metric: str | None):
             _fan(figure.add_subplot(grid[row, k]), result, name)
         row += 1
     if "scatter" in rows:
-        for k, name in enumerate(parameters):
-            _scatter(figure.add_subplot(grid[row, k]), result, metric, name, k == 0)
+        for k, (metric, parameter) in enumerate(pairs):
+            _scatter(figure.add_subplot(grid[row, k]), result, metric, parameter)
     failed = len(result.failed)
-    figure.suptitle(f"{result.model_name}: {len(result.outcomes) - failed} samples"
+    figure.suptitle(f"{result.model_name.split('.')[-1]}: {len(result.outcomes) - failed} samples"
                     + (f" ({failed} failed)" if failed else ""), fontsize="medium")
     return figure
 
@@ -57,7 +59,7 @@ def _fan(ax, result, name: str) -> None:
     ax.grid(True, alpha=0.3)
 
 
-def _scatter(ax, result, metric: str, parameter: str, first: bool) -> None:
+def _scatter(ax, result, metric: str, parameter: str) -> None:
     values, samples = result.metric(metric)
     j = list(result.parameters).index(parameter)
     x = result.design.values[samples, j] if samples else np.zeros(0)
@@ -70,8 +72,7 @@ def _scatter(ax, result, metric: str, parameter: str, first: bool) -> None:
                    label="failed")
         ax.legend(fontsize="x-small", loc="best")
     ax.set_xlabel(parameter)
-    if first:
-        ax.set_ylabel(metric)
+    ax.set_ylabel(metric)
     ax.grid(True, alpha=0.3)
 
 

@@ -119,10 +119,12 @@ class SweepResult:
         return write_table(self.trajectories(), path), write_table(self.samples(), sibling(path, "samples"))
 
     def plot(self, path: str | os.PathLike, signals: Sequence[str] | None = None,
-             metric: str | None = None) -> Path:
+             metrics: Sequence[str] | None = None) -> Path:
+        """Fan charts of `signals` (default: the first three recorded) over time and scatters of
+        `metrics` (default: all) against the swept parameters; matplotlib's Figure, no pyplot."""
         from compiler.sweep.plot import summary_figure, save_figure
         figure = summary_figure(self, list(signals) if signals is not None else list(self.variables[:3]),
-                                metric if metric is not None else (self.metric_labels or (None,))[0])
+                                list(metrics) if metrics is not None else list(self.metric_labels))
         return save_figure(figure, path)
 
     def summary(self) -> str:
