@@ -44,6 +44,7 @@ def main(argv: list[str]) -> int:
     parser.add_argument("--quick", action="store_true", help="fewer tolerances, smaller budgets")
     parser.add_argument("--only", default="", help="comma-separated problems (excavator, pendulum, swinging, andrews, robertson)")
     parser.add_argument("--no-compile", action="store_true", help="skip the compile-time measurements")
+    parser.add_argument("--no-sweep", action="store_true", help="skip the sweep benchmark (bench_sweep.py)")
     parser.add_argument("--out", default=str(ROOT / "docs"), help="folder for benchmarks.md (PNGs go to <out>/benchmarks/)")
     args = parser.parse_args(argv)
     os.environ.setdefault("OMP_NUM_THREADS", "1")      # scipy/numpy threads would steal the other core
@@ -80,6 +81,11 @@ def main(argv: list[str]) -> int:
         if chain["rows"]:
             pngs["compile"] = "benchmarks/compile_time_chain.png"
             plots.compile_scaling_png(chain["rows"], compile_time.STAGES, chain["fit"], out / pngs["compile"])
+
+    if not args.no_sweep:
+        log("== sweep (serial vs LocalCluster, its table goes into sweeps.md)")
+        import bench_sweep
+        bench_sweep.main(["--samples", "40" if args.quick else "200", "--doc", str(out / "sweeps.md")])
 
     elapsed = time.perf_counter() - began
     (out / "benchmarks.md").write_text(report.render(info, runs, compile_data, pngs, settings, elapsed),
