@@ -13,6 +13,7 @@ event the restart sees the other branch.
 """
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import sympy
@@ -39,6 +40,58 @@ class StateEvent:
 class Events:
     time_events: tuple[TimeEvent, ...]
     state_events: tuple[StateEvent, ...]
+    timed_conditions: tuple[sympy.Expr, ...] = ()     # the nodes whose time events are known
+
+
+# Inside a conditional whose switching times are known, time is read from this clock instead: the
+# runtime sets it to the middle of the segment it integrates, so the condition holds its value over
+# the whole segment, ends included (IDAS evaluates the last step at the segment's end, where the
+# condition has already flipped). This is Modelica's relation locking between events.
+EVENT_CLOCK = sympy.Symbol("__event_clock")
+
+
+def lock_timed_conditions(reduced: ReducedSystem, events: Events) -> ReducedSystem:
+    """`reduced` with every condition whose event times are known reading time from EVENT_CLOCK
+    (values keep reading time: min(a, b) becomes `a if a' <= b' else b` with a', b' on the clock),
+    and the clock added as the last (non-tunable) parameter."""
+    if not events.timed_conditions:
+        return reduced
+    timed = set(events.timed_conditions)
+
+    def lock(expr):
+        return _locked(expr, timed) if expr.has(TIME) else expr
+
+    from compiler.structure.reduced import Assignment, ParameterInfo
+    return dataclasses.replace(
+        reduced, ode=[lock(e) for e in reduced.ode], alg=[lock(e) for e in reduced.alg],
+        assignments=[Assignment(a.target, lock(a.expr), a.origin) for a in reduced.assignments],
+        observables=[Assignment(a.target, lock(a.expr), a.origin) for a in reduced.observables],
+        parameters=list(reduced.parameters) + [ParameterInfo(EVENT_CLOCK.name, 0.0, None, False)])
+
+
+def _locked(expr: sympy.Expr, timed: set) -> sympy.Expr:
+    """Bottom-up: children first, then the node itself if its switching is timed."""
+    if not expr.args or not expr.has(TIME):
+        return expr
+    rebuilt = expr.func(*[_locked(a, timed) for a in expr.args]) if not isinstance(expr, sympy.Piecewise) \
+        else sympy.Piecewise(*[(_locked(e, timed), _locked(c, timed)) for e, c in expr.args])
+    if expr not in timed:
+        return rebuilt
+    on_clock = lambda e: e.xreplace({TIME: EVENT_CLOCK})          # noqa: E731
+    if isinstance(expr, Relational) or isinstance(expr, (sympy.sign, sympy.Heaviside, sympy.floor,
+                                                         sympy.ceiling)):
+        return on_clock(rebuilt)
+    if isinstance(expr, (sympy.Min, sympy.Max)):
+        a, b = rebuilt.args
+        first = on_clock(a) <= on_clock(b) if isinstance(expr, sympy.Min) else on_clock(a) >= on_clock(b)
+        return sympy.Piecewise((a, first), (b, True))
+    if isinstance(expr, sympy.Abs):
+        a = rebuilt.args[0]
+        return sympy.Piecewise((a, on_clock(a) >= 0), (-a, True))
+    if isinstance(expr, sympy.Mod):
+        a, m = rebuilt.args
+        return a - m * sympy.floor(on_clock(a) / m)
+    return rebuilt
 
 
 def find_events(reduced: ReducedSystem) -> Events:
@@ -47,16 +100,39 @@ def find_events(reduced: ReducedSystem) -> Events:
     time_only = _time_only_symbols(reduced)
     time_events: dict[tuple, TimeEvent] = {}
     state_events: dict[sympy.Expr, StateEvent] = {}
+    timed: dict[sympy.Expr, None] = {}
     expressions = list(reduced.ode) + list(reduced.alg) + [a.expr for a in reduced.assignments]
+    definitions = _time_only_definitions(reduced, time_only)
     for expr in expressions:
-        for zero, label in _zero_functions(expr):
+        for node, zero, label in _zero_functions(expr):
             if zero.free_symbols <= time_only:
-                for event in _solve_for_time(zero, label):
+                solved = _solve_for_time(_inline(zero, definitions), label)
+                for event in solved:
                     time_events.setdefault((event.offset, event.period), event)
+                if solved and not node.has(*_assignment_symbols(reduced)):
+                    timed[node] = None
                 continue
             if zero not in state_events and -zero not in state_events:
                 state_events[zero] = StateEvent(zero, label)
-    return Events(tuple(time_events.values()), tuple(state_events.values()))
+    return Events(tuple(time_events.values()), tuple(state_events.values()), tuple(timed))
+
+
+def _time_only_definitions(reduced: ReducedSystem, time_only: set) -> list[tuple]:
+    return [(sympy.Symbol(a.target), a.expr) for a in reduced.assignments
+            if sympy.Symbol(a.target) in time_only]
+
+
+def _inline(expr: sympy.Expr, definitions: list[tuple]) -> sympy.Expr:
+    """`expr` in time and parameters only: time-only assignment targets replaced by their
+    definitions (latest first, since each may use earlier ones)."""
+    for symbol, definition in reversed(definitions):
+        if expr.has(symbol):
+            expr = expr.xreplace({symbol: definition})
+    return expr
+
+
+def _assignment_symbols(reduced: ReducedSystem) -> list[sympy.Symbol]:
+    return [sympy.Symbol(a.target) for a in reduced.assignments] or [sympy.Symbol("__none")]
 
 
 def _time_only_symbols(reduced: ReducedSystem) -> set[sympy.Symbol]:
@@ -68,7 +144,7 @@ def _time_only_symbols(reduced: ReducedSystem) -> set[sympy.Symbol]:
 
 
 def _zero_functions(expr: sympy.Expr):
-    """(g, label) for every non-smooth point of `expr`: g changes sign there."""
+    """(node, g, label) for every non-smooth node of `expr`: g changes sign where it switches."""
     seen = set()
     for node in sympy.preorder_traversal(expr):
         found = []
@@ -86,7 +162,7 @@ def _zero_functions(expr: sympy.Expr):
             zero = sympy.expand(zero) if zero.is_polynomial() else zero
             if zero.free_symbols and zero not in seen:
                 seen.add(zero)
-                yield zero, label
+                yield node, zero, label
 
 
 def _solve_for_time(zero: sympy.Expr, label: str) -> list[TimeEvent]:
@@ -95,6 +171,8 @@ def _solve_for_time(zero: sympy.Expr, label: str) -> list[TimeEvent]:
     on mod(a, m) gives its crossings and the jumps of the mod. Anything else is left to IDAS."""
     if TIME not in zero.free_symbols:
         return []
+    zero = zero.replace(sympy.floor, lambda a: a - sympy.Mod(a, 1)).replace(
+        sympy.ceiling, lambda a: a + sympy.Mod(-a, 1))
     if zero.atoms(sympy.Mod):
         return _mod_events(zero, label)
     if isinstance(zero, sympy.sin):

@@ -12,7 +12,7 @@ import casadi as ca
 import sympy
 
 from compiler.errors import DyadError, Span
-from compiler.events import find_events
+from compiler.events import EVENT_CLOCK, Events, find_events, lock_timed_conditions
 from compiler.flat import TIME
 from compiler.runtime import CompiledModel
 from compiler.structure.reduced import ReducedSystem
@@ -225,8 +225,12 @@ def _describe(origin) -> str:
     return describe() if callable(describe) else str(origin)
 
 
-def lower(reduced: ReducedSystem) -> CompiledModel:
-    """Build the dae, init, outputs and params CasADi Functions of `reduced`."""
+def lower(reduced: ReducedSystem, events: bool = True) -> CompiledModel:
+    """Build the dae, init, outputs and params CasADi Functions of `reduced`. With `events` off the
+    model knows none of its time and state events and IDAS steps across every kink (kept to
+    measure what event handling buys)."""
+    found = find_events(reduced) if events else Events((), ())
+    reduced = lock_timed_conditions(reduced, found)
     nx, nz, npar = len(reduced.states), len(reduced.algebraics), len(reduced.parameters)
     if len(reduced.ode) != nx:
         raise LoweringError(f"model {reduced.name}: {nx} states but {len(reduced.ode)} ode expressions")
@@ -276,7 +280,7 @@ def lower(reduced: ReducedSystem) -> CompiledModel:
                                 "algebraic unknown, parameter, assignment or observable")
     outputs = ca.Function("outputs", inputs, [ca.vertcat(*values)], names_in, ["values"])
 
-    events, event_labels, time_events, time_event_labels = _event_functions(reduced, walker, x, z, p, t)
+    events, event_labels, time_events, time_event_labels = _event_functions(found, walker, x, z, p, t)
     return CompiledModel(
         name=reduced.name,
         events=events, event_labels=event_labels,
@@ -299,14 +303,14 @@ def lower(reduced: ReducedSystem) -> CompiledModel:
                   "bounds": {name: dict(sorted(b.items()))
                              for name, b in sorted(reduced.metadata.get("bounds", {}).items())
                              if name in set(output_names)},
-                  "units": _declared_units(reduced, output_names)},
+                  "units": _declared_units(reduced, output_names),
+                  **({"event_clock": EVENT_CLOCK.name} if found.timed_conditions else {})},
     )
 
 
-def _event_functions(reduced: ReducedSystem, walker: "SXLowering", x, z, p, t):
+def _event_functions(found, walker: "SXLowering", x, z, p, t):
     """events(x, z, p, t) -> zero functions of the state events; time_events(p) -> (offsets,
     periods) of the time events (see compiler/events.py). None where the model has none."""
-    found = find_events(reduced)
     events = labels = time_events = time_labels = None
     if found.state_events:
         zeros = [walker.lower(e.zero, f"the event condition {e.label}") for e in found.state_events]

@@ -1,10 +1,12 @@
 """The one simulation driver: consistent initialization, then one segment loop for every run.
 
-Segments end only where the model says so (time events, from `model.time_events` and the given
-breakpoints) or where a watched crossing stops IDAS (a declared bound: the run fails there; a
-degrading state set: the run switches there, when the caller provides a `StateSetSwitcher`).
-Nothing else cuts the run: not the output grid, not a progress bar. State events of the model are
-located by IDAS inside a segment and logged in the Result.
+Segments end where the model says so (time events, from `model.time_events` and the given
+breakpoints) and where a watched function crosses zero (watches.py): a state event of the model
+(the run restarts there, the event is logged), a declared bound (the run fails there, naming it),
+a degrading state set (the run switches there, when the caller provides a `StateSetSwitcher`).
+Watched functions are evaluated at CHECKS_PER_SEGMENT check times that depend only on the segment,
+never on the output grid, and a crossing is located by a root search on short IDAS runs. Nothing
+else cuts the run: not the output grid, not a progress bar.
 """
 from __future__ import annotations
 
@@ -24,7 +26,12 @@ from .outputs import evaluate_outputs, polish_algebraics
 from .progress import Progress
 from .result import Result
 from .static import solve_static
-from .watches import build_watch, time_breakpoints
+from .watches import Watch, build_watch, time_breakpoints
+
+CHECKS_PER_SEGMENT = 200
+ROOT_ITERATIONS = 60
+ROOT_TOLERANCE = 1e-12           # relative, on the time of a located crossing
+MAX_EVENTS_AT_ONE_TIME = 50
 
 
 class StateSetSwitcher(Protocol):
@@ -49,6 +56,7 @@ class _Run:
         self.events: list[dict] = []
         self.switches: list[dict] = []
         self.integrators: dict[int, tuple] = {}
+        self.pending: dict[int, tuple] = {}
         self.model = model
 
     def integrator(self, model: CompiledModel):
@@ -58,17 +66,26 @@ class _Run:
             opts = integrator_options(model, self.options.rtol, self.options.atol,
                                       self.options.max_steps, self.options.idas_options())
             public_index = [model.output_index(n) for n in self.public]
-            self.integrators[key] = (model, IdasIntegrator(model, opts, watch), watch, public_index)
+            self.integrators[key] = (model, IdasIntegrator(model, opts), watch, public_index)
         return self.integrators[key][1:]
 
     def store(self, model: CompiledModel, xs, zs, p, times, first: int, public_index) -> None:
-        """Outputs at the grid points first, first + 1, ..., which are `times`."""
+        """Keep the point at the grid times first, first + 1, ... (which are `times`); the outputs
+        are computed at the end, in one vectorized call per state set (`finish`)."""
         n = len(times)
         if n == 0:
             return
-        zs = polish_algebraics(model, xs[:, :n], zs[:, :n], p, np.asarray(times[:n]))
-        outs = evaluate_outputs(model, xs[:, :n], zs, p, np.asarray(times[:n]))
-        self.values[:, first:first + n] = outs[public_index]
+        self.pending.setdefault(id(model), (model, public_index, []))[2].append(
+            (np.asarray(xs)[:, :n], np.asarray(zs)[:, :n], np.repeat(np.asarray(p).reshape(-1, 1), n, axis=1),
+             np.arange(first, first + n)))
+
+    def finish(self) -> None:
+        for model, public_index, chunks in self.pending.values():
+            xs, zs, ps, columns = (np.concatenate([c[i] for c in chunks], axis=-1) for i in range(4))
+            times = self.grid[columns]
+            zs = polish_algebraics(model, xs, zs, ps, times)
+            self.values[:, columns] = evaluate_outputs(model, xs, zs, ps, times)[public_index]
+        self.pending = {}
 
     def add(self, counters: Mapping) -> None:
         for key, value in counters.items():
@@ -89,6 +106,8 @@ def simulate(model: CompiledModel, stop: float | None = None, *, options: Simula
     options = options.validated()
     run = _Run(model, options, switcher)
     p = model.parameter_vector(options.params)
+    run.ends = _segment_ends(model, p, options)
+    p = with_clock(model, p, options.start, run.ends[0])
     stats: dict = {"compile_time": model.compile_time}
     began = _time.perf_counter()
     point = consistent_initialization(model, p, options.start)
@@ -103,6 +122,7 @@ def simulate(model: CompiledModel, stop: float | None = None, *, options: Simula
                 [model.output_index(n) for n in run.public]]
         else:
             t = _integrate(run, model, p, point, progress)
+            run.finish()
     except KeyboardInterrupt:
         raise SimulationInterrupted(f"interrupted at t = {t:.10g}", float(t), "interrupted") from None
     finally:
@@ -117,49 +137,187 @@ def simulate(model: CompiledModel, stop: float | None = None, *, options: Simula
 
 
 def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: Progress) -> float:
-    options, grid = run.options, run.grid
-    breaks = sorted(set(time_breakpoints(model, p, options.start, options.stop))
-                    | {float(b) for b in options.breakpoints or () if options.start < b < options.stop})
-    ends = [b for b in breaks if options.start < b < options.stop] + [options.stop]
+    options, grid, ends = run.options, run.grid, run.ends
     scale = state_scales(model, point.x)
     run.values[:, 0] = _outputs_at(run, model, point.x, point.z, p, grid[0])
     t, x, z = options.start, point.x, point.z
     k = 1                                                # next grid index to fill
     end_index = 0
+    restarts_here = 0
     while t < options.stop:
         end = ends[end_index]
-        times, m = _segment_times(grid, k, end, inclusive=True)
+        p = with_clock(model, p, t, end)
         integrator, watch, public_index = run.integrator(model)
-        segment = integrator.run(t, times, x, z, p)
-        if segment.stop is None:
-            run.add(segment.counters)
-            _log_events(run, watch, segment.events)
-            check_divergence(model, np.asarray(times), segment.xs, scale)
-            run.store(model, segment.xs, segment.zs, p, times[:m], k, public_index)
-            k += m
+        outputs, m = _segment_times(grid, k, end, inclusive=True)
+        checks = [] if watch is None else list(np.linspace(t, end, CHECKS_PER_SEGMENT + 1)[1:])
+        times = sorted(set(outputs) | set(checks))
+        try:
+            segment = integrator.run(t, times, x, z, p)
+        except SimulationFailed as failure:
+            shorter = _before_failure(watch, checks, failure, t)
+            if shorter is None:
+                raise
+            # a watched crossing (a bound, a degrading state set) may come before the failure and
+            # explain it: run the segment again up to the last check time IDAS got past
+            end, ends = shorter, ends[:end_index] + [shorter] + ends[end_index:]
+            run.ends = ends
+            continue
+        run.add(segment.counters)
+        crossing = None if watch is None else _first_crossing(watch, t, x, z, p, times, checks, segment)
+        reached = len(times) if crossing is None else int(np.searchsorted(times, crossing[0]))
+        check_divergence(model, np.asarray(times[:reached]), segment.xs[:, :reached], scale)
+        n_out = m if crossing is None else int(np.searchsorted(outputs[:m], crossing[1], side="right"))
+        at = np.searchsorted(times, outputs[:n_out])
+        run.store(model, segment.xs[:, at], segment.zs[:, at], p, outputs[:n_out], k, public_index)
+        k += n_out
+        if crossing is None:
             t, x, z = end, segment.xs[:, -1], segment.zs[:, -1]
             end_index += 1
+            restarts_here = 0
             progress.update(t)
             continue
-        t_stop, row = segment.stop
+        t_right, t_left, row = crossing
         kind, what = watch.labels[row]
-        # the crossing ended the IDAS call: integrate again up to it, without stopping
-        times, m = _segment_times(grid, k, t_stop, inclusive=False)
-        again = integrator.run(t, times, x, z, p, stopping=False)
-        run.add(again.counters)
-        _log_events(run, watch, again.events)
-        check_divergence(model, np.asarray(times), again.xs, scale)
-        run.store(model, again.xs, again.zs, p, times[:m], k, public_index)
-        k += m
-        x_stop, z_stop = again.xs[:, -1], again.zs[:, -1]
-        values = dict(zip(model.output_names, _all_outputs(model, x_stop, z_stop, p, t_stop)))
+        if kind == "state set":
+            # any point past the crossing serves: the switch chooses the best set there and the
+            # new set's indicator starts far from zero (switch_indicators), so no root search
+            right = times.index(t_right)
+            x_cross, z_cross, t_cross = segment.xs[:, right], segment.zs[:, right], t_right
+            n_right = int(np.searchsorted(outputs[:m], t_right, side="right"))
+            at = np.searchsorted(times, outputs[n_out:n_right])
+            run.store(model, segment.xs[:, at], segment.zs[:, at], p, outputs[n_out:n_right], k,
+                      public_index)
+            k += n_right - n_out
+        else:
+            left = times.index(t_left) if t_left in times else -1
+            x_left, z_left = (segment.xs[:, left], segment.zs[:, left]) if left >= 0 else (x, z)
+            t_cross, x_cross, z_cross = _locate(run, integrator, watch, row, t_left, t_right,
+                                                x_left, z_left, p)
+            # outputs between the check before the crossing and the crossing were computed past a
+            # kink the segment stepped over: recompute them up to the crossing
+            k = _refill(run, model, integrator, p, public_index, k, t_left, t_cross, x_left, z_left)
+        values = dict(zip(model.output_names, _all_outputs(model, x_cross, z_cross, p, t_cross)))
+        restarts_here = restarts_here + 1 if t_cross - t <= 1e-12 * max(1.0, abs(t)) else 0
+        if restarts_here > MAX_EVENTS_AT_ONE_TIME:
+            reason = f"the condition {what} switches back and forth without time advancing (chattering)"
+            raise SimulationFailed(f"simulation of {model.name} stopped at t = {t_cross:.10g}: {reason}",
+                                   t_cross, reason)
         if kind == "bound":
             name, key, bound = what
-            raise bound_violation(model, name, key, bound, values[name], t_stop)
-        model, x, z, p = _switch(run, model, values, t_stop, p, x_stop, z_stop, what)
-        t = t_stop
+            raise bound_violation(model, name, key, bound, values[name], t_cross)
+        if kind == "event":
+            run.events.append({"time": float(t_cross), "event": what})
+            x, z = x_cross, z_cross
+        else:
+            model, x, z, p = _switch(run, model, values, t_cross, p, x_cross, z_cross, what)
+            scale = np.maximum(scale[:len(x)] if len(scale) == len(x) else state_scales(model, x),
+                               state_scales(model, x))
+        t = t_cross
         progress.update(t)
     return t
+
+
+def _before_failure(watch, checks: list[float], failure: SimulationFailed, t: float) -> float | None:
+    """The last check time before an IDAS failure inside a watched segment (None: not watched, or
+    the failure came before the first check)."""
+    if watch is None or failure.time_reached is None or not np.isfinite(failure.time_reached):
+        return None
+    before = [c for c in checks if t < c < failure.time_reached]
+    return before[-1] if before else None
+
+
+def _first_crossing(watch: Watch, t0, x0, z0, p, times, checks, segment):
+    """(check time after the crossing, check time before it, row) of the first watched function
+    that changes sign between two check times; None when none does."""
+    at = np.searchsorted(times, checks)
+    values = np.column_stack([watch.values(np.asarray(x0).reshape(-1, 1), np.asarray(z0).reshape(-1, 1),
+                                           p, [t0]),
+                              watch.values(segment.xs[:, at], segment.zs[:, at], p, checks)])
+    before, after = values[:, :-1], values[:, 1:]
+    stops = np.array([kind != "event" for kind, _ in watch.labels])[:, None]
+    crossed = np.where(stops, (before > 0) & ~(after > 0), (before > 0) != (after > 0))
+    crossed &= np.isfinite(before)
+    hits = np.nonzero(crossed.any(axis=0))[0]
+    if not hits.size:
+        return None
+    j = int(hits[0])
+    row = int(np.nonzero(crossed[:, j])[0][0])
+    return float(checks[j]), float(t0 if j == 0 else checks[j - 1]), row
+
+
+def _locate(run: _Run, integrator, watch: Watch, row: int, t_a: float, t_b: float, x_a, z_a, p):
+    """The crossing of watch row `row` in (t_a, t_b] by the Illinois method on short IDAS runs
+    from (t_a, x_a, z_a); returns the first time found on the far side and the point there."""
+    def value_at(t):
+        if t == t_a:
+            return float(watch.values(np.asarray(x_a).reshape(-1, 1), np.asarray(z_a).reshape(-1, 1),
+                                      p, [t])[row, 0]), x_a, z_a
+        segment = integrator.run_to(t_a, t, x_a, z_a, p)
+        run.add(segment.counters)
+        xs, zs = segment.xs[:, -1], segment.zs[:, -1]
+        return float(watch.values(xs.reshape(-1, 1), zs.reshape(-1, 1), p, [t])[row, 0]), xs, zs
+
+    g_a, _, _ = value_at(t_a)
+    g_b, x_b, z_b = value_at(t_b)
+    lo, hi, g_lo, g_hi, side = t_a, t_b, g_a, g_b, 0
+    for _ in range(ROOT_ITERATIONS):
+        if hi - lo <= ROOT_TOLERANCE * max(1.0, abs(hi)):
+            break
+        guess = hi - g_hi * (hi - lo) / (g_hi - g_lo) if g_hi != g_lo else 0.5 * (lo + hi)
+        if not lo < guess < hi:
+            guess = 0.5 * (lo + hi)
+        g, x_g, z_g = value_at(guess)
+        if (g > 0) == (g_lo > 0):
+            lo, g_lo = guess, g
+            if side == -1:
+                g_hi *= 0.5                         # Illinois: keep the stale end from stalling
+            side = -1
+        else:
+            hi, g_hi, x_b, z_b = guess, g, x_g, z_g
+            if side == 1:
+                g_lo *= 0.5
+            side = 1
+    return hi, x_b, z_b
+
+
+def _refill(run: _Run, model, integrator, p, public_index, k: int, t_a: float, t_b: float,
+            x_a, z_a) -> int:
+    """Outputs at the grid times in (t_a, t_b) recomputed from the point at t_a; returns the next
+    grid index to fill."""
+    grid = run.grid
+    first = max(k, int(np.searchsorted(grid, t_a, side="right")))
+    last = int(np.searchsorted(grid, t_b, side="right"))
+    if last > first:
+        times = [float(v) for v in grid[first:last]]
+        segment = integrator.run(t_a, times, x_a, z_a, p)
+        run.add(segment.counters)
+        run.store(model, segment.xs, segment.zs, p, times, first, public_index)
+    return max(k, last)
+
+
+def _segment_ends(model: CompiledModel, p: np.ndarray, options: SimulationOptions) -> list[float]:
+    """Where segments end: the model's time events, the caller's breakpoints, the stop time."""
+    start, stop = options.start, options.stop
+    breaks = set(time_breakpoints(model, p, start, stop))
+    breaks |= {float(b) for b in options.breakpoints or () if start < float(b) < stop}
+    ends: list[float] = []
+    for b in sorted(breaks) + [stop]:            # events closer than round-off are one event
+        if ends and b - ends[-1] <= 1e-12 * max(1.0, abs(b)):
+            ends[-1] = b
+        elif b - start > 1e-12 * max(1.0, abs(b)):
+            ends.append(b)
+    return ends
+
+
+def with_clock(model: CompiledModel, p: np.ndarray, t_a: float, t_b: float) -> np.ndarray:
+    """p with the model's event clock (compiler/events.py) in the middle of the segment [t_a, t_b]:
+    conditions on time hold one value over the whole segment, its ends included."""
+    name = model.metadata.get("event_clock")
+    if name is None:
+        return p
+    p = np.array(p, dtype=float)
+    p[model.parameter_names.index(name)] = 0.5 * (t_a + t_b)
+    return p
 
 
 def _segment_times(grid: np.ndarray, k: int, end: float, inclusive: bool) -> tuple[list[float], int]:
@@ -167,6 +325,7 @@ def _segment_times(grid: np.ndarray, k: int, end: float, inclusive: bool) -> tup
     `end`), and how many of them are grid points."""
     upto = np.searchsorted(grid, end, side="right" if inclusive else "left")
     times = [float(v) for v in grid[k:upto]]
+    assert not times or times[0] > grid[k - 1], "output times run backwards"
     m = len(times)
     if not times or times[-1] != end:
         times.append(float(end))
@@ -193,13 +352,6 @@ def _switch(run: _Run, model: CompiledModel, values: Mapping[str, float], t: flo
     z_guess = np.array([values.get(n, 0.0) for n in new.algebraic_names])
     point = restart_point(new, p_new, t, x_target, z_guess)
     return new, point.x, point.z, p_new
-
-
-def _log_events(run: _Run, watch, events) -> None:
-    for t, row in events:
-        kind, what = watch.labels[row]
-        if kind == "event":
-            run.events.append({"time": float(t), "event": what})
 
 
 def _all_outputs(model: CompiledModel, x, z, p, t: float) -> np.ndarray:

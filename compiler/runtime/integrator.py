@@ -1,10 +1,11 @@
 """The Integrator interface and its IDAS implementation (CasADi's VM or a compiled C library).
 
-An integrator runs one segment: from (t0, x0, z0) over the output times of the segment, while
-watching zero-crossing functions ("watches"). A watch of kind "record" is a state event of the
-model: IDAS locates it, restarts there, and the time is logged. A watch of kind "stop" (a bound,
-a degrading state set) ends the segment at the crossing; the driver decides what follows.
-Another integrator is added by implementing `Integrator.run` with the same `Segment` result.
+An integrator runs one segment: from (t0, x0, z0) over the given output times, and returns the
+states and algebraic unknowns there. What is watched during a run (events, bounds, state sets) is
+the driver's business (watches.py), so another integrator is added by implementing `run` alone.
+CasADi 3.8's own event support was measured and not used: it missed crossings (0.5 - x with x
+rising), failed with IDA_ILL_INPUT ("tout too far back") on a pendulum and hung on a DAE whose
+zero function depends on an algebraic unknown.
 """
 from __future__ import annotations
 
@@ -22,128 +23,90 @@ from .model import CompiledModel
 COUNTERS = {"nsteps": "steps", "nfevals": "residual_evaluations", "n_call_jacF": "jacobian_evaluations",
             "nlinsetups": "linear_solver_setups", "netfails": "error_test_failures",
             "nniters": "newton_iterations", "nncfails": "newton_convergence_failures"}
-MAX_EVENTS = 1_000_000
-
-
-@dataclass(frozen=True)
-class Watch:
-    """Zero-crossing functions of (x, z, p, t), one IDAS root each, with what a crossing means."""
-    function: ca.Function              # (x, z, p, t) -> column; IDAS reports crossings from + to -
-    kinds: tuple[str, ...]             # "record" or "stop", per row
-    labels: tuple[object, ...]         # what each row is, for the driver
 
 
 @dataclass
 class Segment:
     xs: np.ndarray                     # states at the output times reached
     zs: np.ndarray
-    events: list[tuple[float, int]] = field(default_factory=list)   # (time, watch row), in order
-    stop: tuple[float, int] | None = None                            # the crossing that ended it
     counters: dict = field(default_factory=dict)
 
 
 class Integrator(Protocol):
     def run(self, t0: float, times: Sequence[float], x0: np.ndarray, z0: np.ndarray,
-            p: np.ndarray, stopping: bool = True) -> Segment: ...
+            p: np.ndarray) -> Segment: ...
 
-
-class _Stopped(Exception):
-    pass
-
-
-class _Transition(ca.Callback):
-    """Called by CasADi at every located crossing: logs it, keeps the state (no jump), and ends
-    the IDAS call at a "stop" crossing when stopping is on."""
-
-    def __init__(self, nx: int, nz: int, kinds: Sequence[str]):
-        ca.Callback.__init__(self)
-        self.nx, self.nz, self.kinds = nx, nz, list(kinds)
-        self.log: list[tuple[float, int]] = []
-        self.stop: tuple[float, int] | None = None
-        self.stopping = True
-        self.construct("dyad_transition", {})
-
-    def get_n_in(self): return 4
-    def get_n_out(self): return 1
-    def get_name_in(self, i): return ("index", "t", "x", "z")[i]
-    def get_name_out(self, i): return "post_x"
-    def get_sparsity_in(self, i): return ca.Sparsity.dense((1, 1, self.nx, self.nz)[i], 1)
-    def get_sparsity_out(self, i): return ca.Sparsity.dense(self.nx, 1)
-
-    def eval(self, arg):
-        index, t = int(arg[0]), float(arg[1])
-        self.log.append((t, index))
-        if self.stopping and self.kinds[index] == "stop":
-            self.stop = (t, index)
-            raise _Stopped()
-        return [arg[2]]
+    def run_to(self, t0: float, t1: float, x0: np.ndarray, z0: np.ndarray, p: np.ndarray) -> Segment: ...
 
 
 class IdasIntegrator:
-    """IDAS on the model's DAE (its C library when it has one), with `watch` as root functions."""
+    """IDAS on the model's DAE (its C library when it has one)."""
 
-    def __init__(self, model: CompiledModel, options: Mapping, watch: Watch | None = None):
+    def __init__(self, model: CompiledModel, options: Mapping):
         self.model = model
         self.options = dict(options)
-        self.watch = watch if watch is not None and watch.kinds else None
-        nx, nz, _ = model.sizes
-        self.transition = _Transition(nx, nz, self.watch.kinds) if self.watch else None
-        self.dae = self._dae_function()
-
-    def _dae_function(self) -> ca.Function:
-        model = self.model
-        native = model.native_dae()
-        if native is not None and self.watch is None:
-            return native
-        x, z, p, t = model.symbols()
-        u = ca.SX.sym("u", 0)
-        zero = ca.SX(0, 1) if self.watch is None else self.watch.function(x, z, p, t)
-        if native is None:
-            ode, alg = model.dae(x, z, p, t)
-            return ca.Function("dyad_dae", [t, x, z, p, u], [ode, alg, ca.SX(0, 1), zero],
-                               ca.dyn_in(), ca.dyn_out())
-        mx = [ca.MX.sym(n, s.shape[0]) for n, s in (("t", t), ("x", x), ("z", z), ("p", p))]
-        ode, alg = native(mx[0], mx[1], mx[2], mx[3], ca.MX(0, 1))[:2]
-        zero_mx = self.watch.function(mx[1], mx[2], mx[3], mx[0])
-        return ca.Function("dyad_dae", mx + [ca.MX.sym("u", 0)], [ode, alg, ca.MX(0, 1), zero_mx],
-                           ca.dyn_in(), ca.dyn_out())
+        self.dae = _dae_function(model, scaled_time=False)
+        self._unit_step: ca.Function | None = None
 
     def run(self, t0: float, times: Sequence[float], x0: np.ndarray, z0: np.ndarray,
-            p: np.ndarray, stopping: bool = True) -> Segment:
+            p: np.ndarray) -> Segment:
+        solver = _make(self.model, self.dae, t0, [float(v) for v in times], self.options)
+        return self._call(solver, x0, z0, p, len(times), lambda tau: tau)
+
+    def run_to(self, t0: float, t1: float, x0: np.ndarray, z0: np.ndarray, p: np.ndarray) -> Segment:
+        """One short run from t0 to t1 only (a root search calls this often): the integrator is
+        built once, in scaled time t = t0 + (t1 - t0) tau over tau in [0, 1]."""
+        if self._unit_step is None:
+            self._unit_step = _make(self.model, _dae_function(self.model, scaled_time=True), 0.0,
+                                    [1.0], self.options)
+        pp = np.concatenate([p, [t0, t1 - t0]])
+        return self._call(self._unit_step, x0, z0, pp, 1, lambda tau: t0 + (t1 - t0) * tau)
+
+    def _call(self, solver, x0, z0, p, n: int, model_time) -> Segment:
         model = self.model
         nx, nz, _ = model.sizes
-        times = [float(v) for v in times]
-        opts = dict(self.options)
-        if self.transition is not None:
-            opts.update(transition=self.transition, max_events=MAX_EVENTS)
-            self.transition.log, self.transition.stop = [], None
-            self.transition.stopping = stopping
-        solver = _make(model, self.dae, t0, times, opts)
         try:
             with CapturedStderr() as messages:
                 sol = solver(x0=x0, z0=z0, p=p)
         except KeyboardInterrupt:
-            reached = solver.stats().get("tcur", math.nan)
-            raise SimulationInterrupted(f"interrupted at t = {reached:.10g}", float(reached),
+            reached = model_time(float(solver.stats().get("tcur", math.nan)))
+            raise SimulationInterrupted(f"interrupted at t = {reached:.10g}", reached,
                                         "interrupted") from None
         except RuntimeError as err:
-            if self.transition is not None and self.transition.stop is not None:
-                return Segment(np.zeros((nx, 0)), np.zeros((nz, 0)), list(self.transition.log),
-                               self.transition.stop, _counters(solver.stats()))
-            reached = float(solver.stats().get("tcur", math.nan))
+            reached = model_time(float(solver.stats().get("tcur", math.nan)))
             reason = idas_reason(str(err), messages.text)
             raise SimulationFailed(f"simulation of {model.name} failed at t = {reached:.10g}: "
                                    f"{reason}", reached, reason) from None
-        log = list(self.transition.log) if self.transition is not None else []
-        return Segment(np.asarray(sol["xf"], dtype=float).reshape(nx, len(times)),
-                       np.asarray(sol["zf"], dtype=float).reshape(nz, len(times)),
-                       log, None, _counters(solver.stats()))
+        return Segment(np.asarray(sol["xf"], dtype=float).reshape(nx, n),
+                       np.asarray(sol["zf"], dtype=float).reshape(nz, n), _counters(solver.stats()))
+
+
+def _dae_function(model: CompiledModel, scaled_time: bool) -> ca.Function:
+    """The DAE as CasADi's integrator wants it: (t, x, z, p, u) -> (ode, alg, quad, zero); with
+    `scaled_time`, t = t_a + t_b * tau with t_a, t_b appended to p."""
+    native = model.native_dae()
+    if native is not None and not scaled_time:
+        return native
+    sym = ca.SX.sym if native is None else ca.MX.sym
+    nx, nz, npar = model.sizes
+    x, z, p, t, u = sym("x", nx), sym("z", nz), sym("p", npar), sym("t"), sym("u", 0)
+    if scaled_time:
+        shift, span = sym("t_a"), sym("t_b")
+        p_in, t_model = ca.vertcat(p, shift, span), shift + span * t
+    else:
+        span, p_in, t_model = 1.0, p, t
+    if native is None:
+        ode, alg = model.dae(x, z, p, t_model)
+    else:
+        ode, alg = native(t_model, x, z, p, u)[:2]
+    empty = ca.SX(0, 1) if native is None else ca.MX(0, 1)
+    return ca.Function("dyad_dae", [t, x, z, p_in, u], [span * ode, alg, empty, empty],
+                       ca.dyn_in(), ca.dyn_out())
 
 
 def _make(model: CompiledModel, dae: ca.Function, t0: float, times: list[float], opts: dict):
     try:
-        with CapturedStderr():                 # CasADi warns that its event support is new
-            return ca.integrator("dyad_idas", "idas", dae, t0, times, opts)
+        return ca.integrator("dyad_idas", "idas", dae, t0, times, opts)
     except RuntimeError as err:
         reason = str(err).strip().splitlines()[-1]
         raise SimulationFailed(f"cannot set up IDAS for {model.name}: {reason}", t0, reason) from None

@@ -17,7 +17,7 @@ def polish_algebraics(model: CompiledModel, xs: np.ndarray, zs: np.ndarray, p: n
     if nz == 0 or n == 0:
         return zs
     newton = model.derived(("algebraic_newton_map", n), lambda: model.algebraic_newton().map(n))
-    pp = np.repeat(p.reshape(-1, 1), n, axis=1)
+    pp = _per_point(p, n)
     times = np.asarray(grid, dtype=float).reshape(1, -1)
     z = zs.copy()
     for _ in range(iterations):
@@ -37,10 +37,17 @@ def polish_algebraics(model: CompiledModel, xs: np.ndarray, zs: np.ndarray, p: n
 
 def evaluate_outputs(model: CompiledModel, xs: np.ndarray, zs: np.ndarray, p: np.ndarray,
                      grid: np.ndarray) -> np.ndarray:
-    """Every output at every time of `grid`: an (outputs x times) array."""
+    """Every output at every time of `grid`: an (outputs x times) array; `p` is one parameter
+    vector or one column per time."""
     n = len(grid)
     if not model.output_names:
         return np.zeros((0, n))
     mapped = model.derived(("outputs_map", n), lambda: model.outputs.map(n))
-    out = mapped(xs, zs, np.repeat(p.reshape(-1, 1), n, axis=1), np.asarray(grid).reshape(1, -1))
+    out = mapped(xs, zs, _per_point(p, n), np.asarray(grid).reshape(1, -1))
     return np.asarray(out, dtype=float).reshape(len(model.output_names), n)
+
+
+def _per_point(p: np.ndarray, n: int) -> np.ndarray:
+    """The parameters as one column per point: one vector for all, or already a column each."""
+    p = np.asarray(p, dtype=float)
+    return p if p.ndim == 2 else np.repeat(p.reshape(-1, 1), n, axis=1)

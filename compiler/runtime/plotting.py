@@ -11,7 +11,7 @@ from typing import Mapping
 
 import numpy as np
 
-from compiler.runtime.writers import atomic_write
+from .writers import atomic_write
 
 PLOT_EXTENSIONS = (".png", ".pdf", ".svg", ".svgz", ".eps", ".ps", ".jpg", ".jpeg", ".tif", ".tiff",
                    ".webp")

@@ -1,50 +1,66 @@
-"""What IDAS watches during a run, assembled from the compiled model: the model's own state events
-(both directions), its declared bounds (stop), the indicators of its state sets (stop), and the
-time events computed from the parameters."""
+"""What the driver watches during a run, assembled from the compiled model: the model's own state
+events, its declared bounds, the indicators of its state sets (zero-crossing functions of
+x, z, p, t), and the time events computed from the parameters."""
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
 
 import casadi as ca
 import numpy as np
 
 from .checks import bound_indicators
 from .errors import ModelInputError
-from .integrator import Watch
 from .model import CompiledModel
 from .state_sets import switch_indicators
 
 MAX_TIME_EVENTS = 1_000_000
 
 
+@dataclass
+class Watch:
+    """Zero-crossing functions with what a sign change of each row means: ("event", label) a state
+    event of the model, ("bound", (name, key, bound)) a declared bound (positive inside),
+    ("state set", level) a monitored state set (positive while it holds)."""
+    function: ca.Function              # (x, z, p, t) -> column
+    labels: tuple[tuple, ...]
+    _maps: dict = field(default_factory=dict, repr=False)
+
+    def values(self, xs: np.ndarray, zs: np.ndarray, p: np.ndarray, times) -> np.ndarray:
+        """(rows x times), one vectorized call."""
+        times = np.asarray(times, dtype=float).reshape(1, -1)
+        n = times.shape[1]
+        if n not in self._maps:
+            self._maps[n] = self.function.map(n) if n > 1 else self.function
+        mapped = self._maps[n]
+        out = mapped(xs, zs, np.repeat(np.asarray(p).reshape(-1, 1), n, axis=1), times)
+        return np.asarray(out, dtype=float).reshape(len(self.labels), n)
+
+
 def build_watch(model: CompiledModel) -> Watch | None:
     x, z, p, t = model.symbols()
     rows: list[ca.SX] = []
-    kinds: list[str] = []
     labels: list[tuple] = []
     if model.events is not None and model.events.numel_out():
         relations = model.events(x, z, p, t)
         for i in range(relations.shape[0]):
             label = model.event_labels[i] if i < len(model.event_labels) else f"event {i}"
             # IDAS reports crossings from + to - only: watch both signs to see both directions
-            rows += [relations[i], -relations[i]]
-            kinds += ["record", "record"]
-            labels += [("event", label), ("event", label)]
+            rows.append(relations[i])
+            labels.append(("event", label))
     outputs = model.outputs(x, z, p, t) if model.output_names else ca.SX(0, 1)
     bounds, bound_labels = bound_indicators(model, outputs)
     for i, label in enumerate(bound_labels):
         rows.append(bounds[i])
-        kinds.append("stop")
         labels.append(("bound", label))
     indicators = switch_indicators(model.state_sets, outputs)
     for level in range(indicators.shape[0]):
         rows.append(indicators[level])
-        kinds.append("stop")
         labels.append(("state set", level))
     if not rows:
         return None
     function = ca.Function("watch", [x, z, p, t], [ca.vertcat(*rows)], ["x", "z", "p", "t"], ["zero"])
-    return Watch(function, tuple(kinds), tuple(labels))
+    return Watch(function, tuple(labels))
 
 
 def time_breakpoints(model: CompiledModel, p: np.ndarray, start: float, stop: float) -> list[float]:

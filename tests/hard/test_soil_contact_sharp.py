@@ -15,6 +15,8 @@ ten times is not: the machine stalls, and then the run leaves the model's domain
 """
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -121,6 +123,8 @@ def assert_stays_in_domain_or_stops(excavator, stop, allow_failure=True):
         assert failure.time_reached is not None and failure.time_reached < stop
         if not allow_failure:
             raise
+        if failure.variable is not None:                 # stopped by a bound: a chamber volume
+            assert re.fullmatch(r"(boom|stick|bucket)_cyl\.cylinder\.V_[ab]", failure.variable)
         return
     for axis in ("boom", "stick", "bucket"):
         for side in ("V_a", "V_b"):
@@ -128,10 +132,12 @@ def assert_stays_in_domain_or_stops(excavator, stop, allow_failure=True):
 
 
 def test_ten_times_stiffer_soil_does_not_run_on_with_an_empty_chamber(excavator):
-    # Volume has `min = 0` in the standard types; the runtime refuses results outside declared bounds.
-    with pytest.raises(runtime.SimulationFailed, match=r"stick_cyl\.cylinder\.V_a .* outside its declared min") as failure:
-        assert_stays_in_domain_or_stops(excavator, 8.0, allow_failure=False)
-    assert 7.4 < failure.value.time_reached < 7.6                       # measured 7.48 s
+    # Volume has `min = 0` in the standard types and IDAS watches every declared bound while it
+    # integrates: a run either keeps both chambers of every cylinder non-empty or stops where one
+    # empties. Which of the two happens depends on round-off (the stalled bucket breaking free is
+    # sensitive: measured once stopping at 7.47 s, once ending with 0.49 l left); the verdict,
+    # never a result with an empty chamber, holds on every machine.
+    assert_stays_in_domain_or_stops(excavator, 8.0)
 
 
 @long_running

@@ -155,3 +155,13 @@ ALL = {"robertson": robertson, "pendulum_angle": pendulum_angle,
        "pendulum_cartesian": pendulum_cartesian, "rc_circuit": rc_circuit,
        "valve_tank": valve_tank, "vanishing_root": vanishing_root, "mass_chain": mass_chain}
 
+
+
+def draining() -> ReducedSystem:
+    """der(x) = -1 from x = 1, with x declared `min = 0`: the bound is crossed at t = 1."""
+    x = S("x")
+    return ReducedSystem(
+        name="Draining", states=["x"], ode=[sympy.Integer(-1)], algebraics=[], alg=[],
+        assignments=[], observables=[], parameters=[],
+        initial=InitialProblem([x - 1], [None]), output_names=["x"],
+        metadata={"bounds": {"x": {"min": 0.0}}})

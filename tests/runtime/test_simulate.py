@@ -191,7 +191,7 @@ def kinked_ramp() -> ReducedSystem:
 
 
 def test_breakpoints_stop_the_solver_at_input_kinks():
-    model = lower(kinked_ramp()).replace(time_events=None)      # as if the compiler had not found it
+    model = lower(kinked_ramp(), events=False)      # as if the compiler had not found the kink
     options = dict(points=11, rtol=1e-6, atol=1e-8)
     across = runtime.simulate(model, 1.0, **options)
     stopped = runtime.simulate(model, 1.0, breakpoints=[0.37, 5.0], **options)

@@ -1,0 +1,111 @@
+"""Time and state events against closed forms: the driver stops exactly at every time where an
+input is non-smooth and locates every state-dependent switch, whatever the output grid."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from compiler import api
+
+
+def model_file(tmp_path, name: str, body: str) -> str:
+    path = tmp_path / f"{name}.dyad"
+    path.write_text(f"component {name}\n{body}\nend\n", encoding="utf-8")
+    return str(path)
+
+
+def test_a_step_at_five_seconds_into_a_first_order_lag(tmp_path):
+    spec = model_file(tmp_path, "Lag", """
+  parameter tau::Real = 0.7
+  parameter t_step::Real = 5.0
+  variable y::Real
+relations
+  initial y = 0
+  tau * der(y) = (if time >= t_step then 1.0 else 0.0) - y""")
+    result = api.simulate(spec, 10.0, rtol=1e-8, atol=1e-10, points=3)      # 0, 5, 10: coarse
+    exact = 1 - math.exp(-(10.0 - 5.0) / 0.7)
+    assert result["y"][-1] == pytest.approx(exact, abs=1e-8)
+    assert result["y"][1] == pytest.approx(0.0, abs=1e-12)
+    moved = api.simulate(spec, 10.0, rtol=1e-8, atol=1e-10, points=3, params={"t_step": 2.5})
+    assert moved["y"][-1] == pytest.approx(1 - math.exp(-7.5 / 0.7), abs=1e-8)
+
+
+def test_a_short_pulse_after_a_long_constant_phase_is_not_stepped_over(tmp_path):
+    spec = model_file(tmp_path, "LatePulse", """
+  parameter t_on::Real = 900.0
+  parameter width::Real = 0.28
+  variable y::Real
+relations
+  initial y = 750
+  der(y) = if time >= t_on and time < t_on + width then 1.0 else 0.0""")
+    result = api.simulate(spec, 1000.0, rtol=1e-6, atol=1e-6, points=2)
+    assert result["y"][-1] == pytest.approx(750.28, abs=1e-6)
+
+
+def test_a_one_kilohertz_square_wave_into_an_rc_filter(tmp_path):
+    spec = model_file(tmp_path, "SquareRC", """
+  parameter f::Real = 1000.0
+  parameter RC::Real = 2e-4
+  variable v::Real
+relations
+  initial v = 0
+  RC * der(v) = (if f * time - floor(f * time) < 0.5 then 1.0 else 0.0) - v""")
+    result = api.simulate(spec, 1.0, rtol=1e-8, atol=1e-10, points=11)
+    # closed form: each half period relaxes v towards 1 or 0 by the factor a = exp(-T/2 / RC)
+    a = math.exp(-0.5e-3 / 2e-4)
+    v = 0.0
+    for _ in range(1000):
+        v = 1 - (1 - v) * a           # high half
+        v = v * a                     # low half
+    assert result["v"][-1] == pytest.approx(v, abs=1e-7)
+    assert result.stats["segments"] >= 2000
+
+
+def test_a_tank_drains_until_it_is_empty_and_stays_empty(tmp_path):
+    spec = model_file(tmp_path, "Tank", """
+  parameter A::Real = 2.0
+  parameter q::Real = 0.5
+  variable h::Real
+relations
+  initial h = 1.0
+  der(h) = if h > 0 then -q / A else 0""")
+    result = api.simulate(spec, 10.0, rtol=1e-8, atol=1e-10, points=11)
+    empty = 1.0 * 2.0 / 0.5
+    times = [e["time"] for e in result.events]
+    assert len(times) == 1 and times[0] == pytest.approx(empty, abs=1e-8)
+    assert result["h"].min() > -1e-10                       # below zero only by the tolerance
+    np.testing.assert_allclose(result["h"], np.maximum(1.0 - 0.25 * result.time, 0.0), atol=1e-9)
+
+
+def test_a_saturated_controller_leaves_its_limit_when_the_closed_form_says(tmp_path):
+    spec = model_file(tmp_path, "Saturated", """
+  parameter tau::Real = 1.0
+  parameter K::Real = 20.0
+  parameter u_max::Real = 2.0
+  parameter r::Real = 1.0
+  variable y::Real
+  variable u::Real
+relations
+  initial y = 0
+  u = min(max(K * (r - y), -u_max), u_max)
+  tau * der(y) = u - y""")
+    result = api.simulate(spec, 3.0, rtol=1e-8, atol=1e-10, points=4)
+    # saturated: y = u_max (1 - exp(-t / tau)) until K (r - y) = u_max
+    leaves = -1.0 * math.log(1 - (1.0 - 2.0 / 20.0) / 2.0)
+    first = min(e["time"] for e in result.events)
+    # located to the state's own error: y is off by ~1e-8 at rtol 1e-8 and dy/dt ~ 1.1
+    assert first == pytest.approx(leaves, abs=3e-8)
+
+
+def test_a_bound_crossed_between_output_points_stops_the_run_where_it_is_crossed(tmp_path):
+    from compiler import runtime
+    from compiler.lower_casadi import lower
+    from tests.runtime.runtime_systems import draining
+    model = lower(draining())
+    with pytest.raises(runtime.SimulationFailed) as failure:
+        runtime.simulate(model, 3.0, points=2, rtol=1e-8, atol=1e-10)     # output at 0 and 3 only
+    assert failure.value.variable == "x"
+    assert failure.value.time_reached == pytest.approx(1.0, abs=1e-9)
+    assert "outside its declared min = 0" in str(failure.value)
