@@ -15,6 +15,7 @@ from typing import Mapping, Protocol, Sequence
 
 import numpy as np
 
+from . import interrupts
 from .checks import bound_violation, check_divergence, state_scales
 from .errors import SimulationFailed, SimulationInterrupted
 from .idas import integrator_options
@@ -58,6 +59,7 @@ class _Run:
         self.integrators: dict[int, tuple] = {}
         self.pending: dict[int, tuple] = {}
         self.model = model
+        self.t = options.start
 
     def integrator(self, model: CompiledModel):
         key = id(model)
@@ -115,16 +117,21 @@ def simulate(model: CompiledModel, stop: float | None = None, *, options: Simula
                  init_residual=point.residual)
     began = _time.perf_counter()
     progress = Progress(options.show_progress(), options.start, options.stop)
-    t = options.start
+    with interrupts.watching():
+        return _run_watched(run, model, p, point, progress, stats, began)
+
+
+def _run_watched(run, model, p, point, progress, stats, began) -> Result:
     try:
         if not model.state_names:
             run.values[:] = solve_static(model, run.grid, p, point.z, run.counters, progress)[
                 [model.output_index(n) for n in run.public]]
         else:
-            t = _integrate(run, model, p, point, progress)
+            _integrate(run, model, p, point, progress)
             run.finish()
     except KeyboardInterrupt:
-        raise SimulationInterrupted(f"interrupted at t = {t:.10g}", float(t), "interrupted") from None
+        raise SimulationInterrupted(f"interrupted at t = {run.t:.10g}", float(run.t),
+                                    "interrupted") from None
     finally:
         progress.close()
     stats["run_time"] = _time.perf_counter() - began
@@ -145,6 +152,7 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
     end_index = 0
     restarts_here = 0
     while t < options.stop:
+        run.t = t
         end = ends[end_index]
         p = with_clock(model, p, t, end)
         integrator, watch, public_index = run.integrator(model)

@@ -17,6 +17,7 @@ import casadi as ca
 import numpy as np
 
 from .errors import SimulationFailed, SimulationInterrupted
+from . import interrupts
 from .idas import CapturedStderr, idas_reason
 from .model import CompiledModel
 
@@ -74,6 +75,10 @@ class IdasIntegrator:
                                         "interrupted") from None
         except RuntimeError as err:
             reached = model_time(float(solver.stats().get("tcur", math.nan)))
+            if interrupts.pending:
+                # CasADi polls for Ctrl-C inside its callbacks and turns it into a failed residual
+                raise SimulationInterrupted(f"interrupted at t = {reached:.10g}", reached,
+                                            "interrupted") from None
             reason = idas_reason(str(err), messages.text)
             raise SimulationFailed(f"simulation of {model.name} failed at t = {reached:.10g}: "
                                    f"{reason}", reached, reason) from None
