@@ -328,6 +328,23 @@ def test_a_component_checked_alone_counts_its_connector_flows_as_given(lib, caps
     assert "flows of its connectors p, n" in err
 
 
+def test_an_overdetermined_component_checked_alone_names_its_equation_set(lib, capsys):
+    path = write(lib, "Pinned.dyad", """
+        component Pinned
+          extends TwoPin
+          parameter R::Real = 1
+        relations
+          v = R*i
+          p.v = 1
+        end
+        """)
+    code, _, err = run(capsys, "check", str(path), "--lib", str(lib))
+    assert code == 1
+    assert_located(err, path, 1)
+    assert "component `Pinned` is unbalanced: 5 equation(s) for 4 unknown(s)" in err
+    assert f"{path.name}:{line_of(path, 'p.v = 1')}:3: note: over-determined: `p.v - 1 = 0`" in err
+
+
 # ------------------------------------------------------------------------ recursive containment
 
 def test_a_component_containing_itself_is_a_located_error(tmp_path, capsys):
