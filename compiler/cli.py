@@ -304,16 +304,13 @@ def main(argv: list[str] | None = None) -> int:
     except DyadError as err:
         print(err.format(), file=sys.stderr)
         return 1
-    except KeyboardInterrupt:
-        print("interrupted", file=sys.stderr)
+    except KeyboardInterrupt as err:             # a run says where: "interrupted at t = ..."
+        print(str(err) or "interrupted", file=sys.stderr)
         return 130
     except Exception as err:          # a bug of ours: say so briefly, the traceback only on request
         if os.environ.get("DYADC_DEBUG"):
             raise
-        from compiler.runtime import ModelInputError, SimulationFailed, SimulationInterrupted
-        if isinstance(err, SimulationInterrupted):
-            print(str(err), file=sys.stderr)
-            return 130
+        from compiler.runtime import ModelInputError, SimulationFailed
         if isinstance(err, (ModelInputError, SimulationFailed)):
             print(f"error: {err}", file=sys.stderr)
             return 1

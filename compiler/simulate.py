@@ -43,8 +43,6 @@ def runtime_errors(reduced: ReducedSystem | None = None) -> Iterator[None]:
     """Translate runtime exceptions (which know nothing of sources) into DyadErrors with spans."""
     try:
         yield
-    except runtime.SimulationInterrupted:
-        raise
     except runtime.InitializationFailed as err:
         origins = reduced.initial.origins if reduced is not None else []
         notes = []

@@ -58,6 +58,7 @@ class _Run:
         self.switches: list[dict] = []
         self.integrators: dict[int, tuple] = {}
         self.pending: dict[int, tuple] = {}
+        self.forced_ends: set[float] = set()
         self.model = model
         self.t = options.start
 
@@ -157,18 +158,20 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
         p = with_clock(model, p, t, end)
         integrator, watch, public_index = run.integrator(model)
         outputs, m = _segment_times(grid, k, end, inclusive=True)
-        checks = [] if watch is None else list(np.linspace(t, end, CHECKS_PER_SEGMENT + 1)[1:])
+        n_checks = CHECKS_PER_SEGMENT * (5 if model.state_sets else 1)
+        checks = [] if watch is None else list(np.linspace(t, end, n_checks + 1)[1:])
         times = sorted(set(outputs) | set(checks))
         try:
             segment = integrator.run(t, times, x, z, p)
         except SimulationFailed as failure:
             shorter = _before_failure(watch, checks, failure, t)
             if shorter is None:
-                raise
+                raise _explained(model, failure) from None
             # a watched crossing (a bound, a degrading state set) may come before the failure and
             # explain it: run the segment again up to the last check time IDAS got past
             end, ends = shorter, ends[:end_index] + [shorter] + ends[end_index:]
             run.ends = ends
+            run.forced_ends.add(shorter)
             continue
         run.add(segment.counters)
         crossing = None if watch is None else _first_crossing(watch, t, x, z, p, times, checks, segment)
@@ -182,6 +185,12 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
             t, x, z = end, segment.xs[:, -1], segment.zs[:, -1]
             end_index += 1
             restarts_here = 0
+            if end in run.forced_ends and model.state_sets and run.switcher is not None:
+                # IDAS failed a little further on: take the state set pivoting prefers here, if
+                # it is another one, before going into the failure again
+                values = dict(zip(model.output_names, _all_outputs(model, x, z, p, t)))
+                if run.switcher.switch(model, values, t).state_names != model.state_names:
+                    model, x, z, p = _switch(run, model, values, t, p, x, z, 0)
             progress.update(t)
             continue
         t_right, t_left, row = crossing
@@ -223,6 +232,18 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
         t = t_cross
         progress.update(t)
     return t
+
+
+def _explained(model: CompiledModel, failure: SimulationFailed) -> SimulationFailed:
+    """An IDAS failure of a model whose state set is monitored: name the constraints whose dummy
+    derivatives may have gone singular before the check could see it."""
+    if not model.state_sets:
+        return failure
+    sets = "; ".join(", ".join(level["candidates"]) for level in model.state_sets)
+    hint = (f"; the state set ({', '.join(model.state_names)}) of this model is chosen among the "
+            f"derivatives of its constraints ({sets}) and may have become singular here")
+    return SimulationFailed(str(failure) + hint, failure.time_reached, (failure.reason or "") + hint,
+                            failure.variable)
 
 
 def _before_failure(watch, checks: list[float], failure: SimulationFailed, t: float) -> float | None:

@@ -26,8 +26,14 @@ class InitializationFailed(SimulationFailed):
         self.worst = worst
 
 
-class SimulationInterrupted(SimulationFailed):
-    """The user pressed Ctrl-C; `time_reached` is where the run was."""
+class SimulationInterrupted(KeyboardInterrupt):
+    """The user pressed Ctrl-C; `time_reached` is where the run was. A KeyboardInterrupt, so that
+    whoever handles Ctrl-C (the CLI, a sweep) handles it as one."""
+
+    def __init__(self, message: str, time_reached: float | None = None, reason: str | None = None):
+        super().__init__(message)
+        self.time_reached = time_reached
+        self.reason = reason
 
 
 class ModelInputError(ValueError):

@@ -12,7 +12,7 @@ from typing import Mapping, Sequence
 import casadi as ca
 import numpy as np
 
-SWITCH_RATIO = 0.5       # switch when swapping one chosen column for another gains this much volume
+SWITCH_RATIO = 0.5       # switch when swapping one chosen column for another gains a factor 2
 _PIVOT_REL_TOL = 1e-8
 
 
