@@ -5,15 +5,18 @@ serially and on LocalClusters of 2 and 4 worker processes.
     .venv/bin/python benchmarks/bench_sweep.py --samples 40 --workers 2 --no-write
 
 Reported per engine: wall time (with and without starting the cluster), throughput in samples per
-second, and the per-sample overhead: the core-seconds a sample costs beyond one bare in-process
-run (the median of a few `run_sample` calls on the same deserialized model). Every engine's
-results are checked to equal the serial run's, number for number.
+second, and the per-sample overhead: the CPU seconds a sample costs (this process and its worker
+processes, measured with getrusage, less the CPU of starting and stopping an idle cluster of the
+same size) beyond one bare in-process run (the median of a few `run_sample` calls on the same
+deserialized model). CPU time, unlike wall time, hardly depends on what else the machine runs.
+Every engine's results are checked to equal the serial run's, number for number.
 """
 from __future__ import annotations
 
 import argparse
 import os
 import re
+import resource
 import statistics
 import sys
 import time
@@ -33,31 +36,55 @@ VARIABLES = ["soil.d", "soil.m_load", "bucket.frame_b.y"]
 BEGIN, END = "<!-- bench_sweep:begin -->", "<!-- bench_sweep:end -->"
 
 
-def single_run_seconds(compilation, options, repeats: int = 5) -> float:
+def cpu_seconds() -> float:
+    """CPU time of this process and of its finished, reaped children (the LocalCluster's workers
+    once the cluster is closed)."""
+    me, children = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return me.ru_utime + me.ru_stime + children.ru_utime + children.ru_stime
+
+
+def idle_cluster_cpu(workers: int) -> float:
+    """CPU seconds of starting and stopping a LocalCluster as the sweep makes it, with no work."""
+    from compiler.sweep.engine import dask_client
+    began = cpu_seconds()
+    with dask_client(None, workers):
+        pass
+    return cpu_seconds() - began
+
+
+def single_run_seconds(compilation, options, repeats: int = 5) -> tuple[float, float]:
+    """Median wall and CPU seconds of one bare run in this process."""
     from compiler.sweep.worker import Job, ModelPayload, load_model, run_sample
     from compiler.sweep.metrics import parse_metrics
     model = load_model(ModelPayload.of(compilation.model))
     job = Job(options["stop"], points=options["points"], variables=tuple(VARIABLES),
               metrics=tuple(parse_metrics(METRICS)))
-    times = []
+    walls, cpus = [], []
     for _ in range(repeats):
-        began = time.perf_counter()
+        began, began_cpu = time.perf_counter(), time.process_time()
         run_sample(model, job, 0, {PARAMETER: 1.2e6})
-        times.append(time.perf_counter() - began)
-    return statistics.median(times)
+        walls.append(time.perf_counter() - began)
+        cpus.append(time.process_time() - began_cpu)
+    return statistics.median(walls), statistics.median(cpus)
 
 
-def identical(result, reference) -> bool:
+def differences(result, reference) -> list[str]:
+    """What differs from the reference run, sample by sample (empty: identical)."""
     import numpy as np
     if sorted(result.outcomes) != sorted(reference.outcomes):
-        return False
+        return [f"samples {sorted(set(reference.outcomes) ^ set(result.outcomes))} missing on one side"]
+    found = []
     for sample, expected in reference.outcomes.items():
         got = result.outcomes[sample]
         if (got.ok, got.time_reached, got.metrics) != (expected.ok, expected.time_reached, expected.metrics):
-            return False
-        if expected.ok and not all(np.array_equal(got.values[n], expected.values[n]) for n in expected.values):
-            return False
-    return True
+            found.append(f"sample {sample}: ok {got.ok} vs {expected.ok}, reason {got.reason!r} vs "
+                         f"{expected.reason!r}, metrics {got.metrics} vs {expected.metrics}")
+        elif expected.ok:
+            for n in expected.values:
+                if not np.array_equal(got.values[n], expected.values[n]):
+                    gap = float(np.max(np.abs(got.values[n] - expected.values[n])))
+                    found.append(f"sample {sample}: {n} differs by up to {gap:.3g}")
+    return found
 
 
 def run(samples: int, workers: list[int], points: int, log=print) -> dict:
@@ -69,31 +96,36 @@ def run(samples: int, workers: list[int], points: int, log=print) -> dict:
     compilation = compile_spec(MODEL)
     options = dict(stop=12.0, points=points, variables=VARIABLES, metrics=METRICS, progress=False)
     design = {PARAMETER: list(np.linspace(*RANGE, samples))}
-    single = single_run_seconds(compilation, options)
-    log(f"one in-process run: {single * 1e3:.1f} ms")
+    single, single_cpu = single_run_seconds(compilation, options)
+    log(f"one in-process run: {single * 1e3:.1f} ms ({single_cpu * 1e3:.1f} ms CPU)")
     rows, reference = [], None
     for engine in ["serial"] + [f"dask-{w}" for w in workers]:
         count = 1 if engine == "serial" else int(engine.split("-")[1])
-        began = time.perf_counter()
+        startup_cpu = 0.0 if engine == "serial" else idle_cluster_cpu(count)
+        began, began_cpu = time.perf_counter(), cpu_seconds()
         result = sweep(compilation, design, SweepOptions(serial=engine == "serial", workers=count, **options))
-        wall = time.perf_counter() - began
+        wall, cpu = time.perf_counter() - began, cpu_seconds() - began_cpu
         stats = result.stats
         start = stats.get("connect_seconds", 0.0)
-        busy = min(count, cores)
         row = {"engine": "serial, in this process" if engine == "serial" else
                f"LocalCluster, {count} processes", "wall": wall, "start": start,
                "throughput": samples / wall, "throughput_running": samples / max(wall - start, 1e-9),
-               "overhead_ms": ((wall - start) * busy / samples - single) * 1e3,
+               "cpu_ms": cpu / samples * 1e3, "startup_cpu": startup_cpu,
+               "overhead_ms": ((cpu - startup_cpu) / samples - single_cpu) * 1e3,
                "batch": stats.get("batch_size", 1), "failed": len(result.failed)}
         if reference is None:
             reference, row["identical"] = result, "(reference)"
         else:
-            row["identical"] = "yes" if identical(result, reference) else "NO"
+            found = differences(result, reference)
+            row["identical"] = "yes" if not found else f"NO ({len(found)} samples)"
+            for line in found[:5]:
+                log("  differs: " + line)
         rows.append(row)
         log(f"{row['engine']}: {wall:.1f} s (cluster start {start:.1f} s), {row['throughput']:.2f} samples/s, "
+            f"CPU {row['cpu_ms']:.0f} ms/sample, cluster start+stop {startup_cpu:.1f} CPU s, "
             f"overhead {row['overhead_ms']:.1f} ms/sample, batch {row['batch']}, identical {row['identical']}")
-    return {"info": info, "single": single, "rows": rows, "samples": samples, "points": points,
-            "result": reference}
+    return {"info": info, "single": single, "single_cpu": single_cpu, "rows": rows, "samples": samples,
+            "points": points, "cores": cores}
 
 
 def render(data: dict) -> str:
@@ -104,15 +136,19 @@ def render(data: dict) -> str:
              f"(the machine was shared: absolute times vary with the load, compare the rows). "
              f"{data['samples']} samples of `{PARAMETER}` from {RANGE[0]:g} to {RANGE[1]:g}, 12 s dig cycle, "
              f"{data['points']} output points, rtol 1e-6; one in-process run takes "
-             f"{data['single'] * 1e3:.0f} ms.", "",
+             f"{data['single'] * 1e3:.0f} ms ({data['single_cpu'] * 1e3:.0f} ms CPU).", "",
              "| engine | wall [s] | of which cluster start [s] | samples/s | samples/s once started "
-             "| overhead per sample [ms] | samples per task | equal to serial |",
-             "|---|---:|---:|---:|---:|---:|---:|---|"]
+             "| CPU per sample [ms] | cluster start + stop [CPU s] | overhead per sample [ms CPU] "
+             "| samples per task | equal to serial |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
     for r in data["rows"]:
         lines.append(f"| {r['engine']} | {r['wall']:.1f} | {r['start']:.1f} | {r['throughput']:.2f} | "
-                     f"{r['throughput_running']:.2f} | {r['overhead_ms']:.1f} | {r['batch']} | {r['identical']} |")
-    lines += ["", "Overhead per sample: the core-seconds a sample costs once the cluster runs "
-              "(wall time after the start x busy cores / samples) minus one bare in-process run.", "", END]
+                     f"{r['throughput_running']:.2f} | {r['cpu_ms']:.0f} | {r['startup_cpu']:.1f} | "
+                     f"{r['overhead_ms']:.1f} | {r['batch']} | {r['identical']} |")
+    lines += ["", "CPU per sample: this process and its workers (getrusage) over the whole sweep, cluster "
+              "start and stop included. Overhead per sample: that, less the CPU of starting and stopping an "
+              "idle cluster of the same size, less one bare in-process run: what the engine adds per sample.",
+              "", END]
     return "\n".join(lines)
 
 

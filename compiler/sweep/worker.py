@@ -89,6 +89,10 @@ def run_sample(model: CompiledModel, job: Job, sample: int, params: Mapping[str,
                           points=job.points, saveat=list(job.saveat) if job.saveat else None,
                           params=dict(params), progress=False)
     except SimulationFailed as err:
+        if err.reason == "interrupted":
+            # Ctrl-C landed inside the run (the runtime reports it as a failure): the sweep stops,
+            # this sample is not a failed one
+            raise KeyboardInterrupt from None
         return _failed(sample, began, err.reason or str(err), err.time_reached)
     except ModelInputError as err:
         return _failed(sample, began, str(err), None)
