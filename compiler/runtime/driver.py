@@ -164,8 +164,8 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
         try:
             segment = integrator.run(t, times, x, z, p)
         except SimulationFailed as failure:
-            shorter = _before_failure(watch, checks, failure, t)
-            if shorter is None:
+            shorter = None if t in run.forced_ends else _before_failure(watch, checks, failure, t)
+            if shorter is None:                  # one retry per failure, not a creep towards it
                 raise _explained(model, failure) from None
             # a watched crossing (a bound, a degrading state set) may come before the failure and
             # explain it: run the segment again up to the last check time IDAS got past
