@@ -14,7 +14,7 @@ zero flows of its own open connectors, equal its unknowns minus those flows and 
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from compiler.balance import check_balance, incidence, span_from_text, unbalanced_components, \
     unknown_names
@@ -101,13 +101,13 @@ def assess(flat: FlatSystem) -> Verdict:
     except DyadError as err:
         balanced_as_component = verdict.component_equations == verdict.component_unknowns
         if verdict.declared_partial or (verdict.open_count and balanced_as_component):
-            return _with_reason(verdict, err)
+            return replace(verdict, reason=err)
         if verdict.open_count and not unbalanced_components(flat):
             raise _component_imbalance(flat, verdict, err, top_flows) from None
         raise
     if verdict.declared_partial:
-        return _with_reason(verdict, DyadError(f"`{flat.name}` is declared partial",
-                                               span_from_text(flat.metadata.get("model_span"))))
+        return replace(verdict, reason=DyadError(f"`{flat.name}` is declared partial",
+                                                 span_from_text(flat.metadata.get("model_span"))))
     return verdict
 
 
@@ -183,11 +183,6 @@ def _culprit_notes(flat: FlatSystem, top_flows: set[str]) -> list[Note]:
         notes.append(Note(f"under-determined: nothing determines all of "
                           f"{', '.join(under[:8])}{' ...' if len(under) > 8 else ''}"))
     return notes
-
-
-def _with_reason(verdict: Verdict, reason: DyadError) -> Verdict:
-    from dataclasses import replace
-    return replace(verdict, reason=reason)
 
 
 def require_parameter_values(flat: FlatSystem, used: set[str], overrides=None) -> None:
