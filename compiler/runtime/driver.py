@@ -26,6 +26,7 @@ from .options import SimulationOptions
 from .outputs import evaluate_outputs, polish_algebraics
 from .progress import Progress
 from .result import Result
+from .state_sets import SWITCH_RATIO, state_selection_quality
 from .static import solve_static
 from .watches import Watch, build_watch, time_breakpoints
 
@@ -33,6 +34,7 @@ CHECKS_PER_SEGMENT = 200
 ROOT_ITERATIONS = 60
 ROOT_TOLERANCE = 1e-12           # relative, on the time of a located crossing
 MAX_EVENTS_AT_ONE_TIME = 50
+MAX_RETRIES = 200                # shortened segments after IDAS failures, per run
 
 
 class StateSetSwitcher(Protocol):
@@ -152,6 +154,7 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
     k = 1                                                # next grid index to fill
     end_index = 0
     restarts_here = 0
+    just_switched = False
     while t < options.stop:
         run.t = t
         end = ends[end_index]
@@ -162,10 +165,20 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
         checks = [] if watch is None else list(np.linspace(t, end, n_checks + 1)[1:])
         times = sorted(set(outputs) | set(checks))
         try:
-            segment = integrator.run(t, times, x, z, p)
+            try:
+                segment = integrator.run(t, times, x, z, p)
+            except SimulationFailed:
+                if not just_switched:
+                    raise
+                # IDAS's own initial-condition search failed right after a switch (the transistor
+                # amplifier at 0.15 s): start from the switch point, which solves alg already
+                segment = integrator.run(t, times, x, z, p, consistent=True)
         except SimulationFailed as failure:
-            shorter = None if t in run.forced_ends else _before_failure(watch, checks, failure, t)
-            if shorter is None:                  # one retry per failure, not a creep towards it
+            # a bound crossing before the failure shows in the first retry; a degrading state set
+            # may need a few, each ending nearer the failure (switches are proposed there)
+            again = t in run.forced_ends and (not model.state_sets or len(run.forced_ends) > MAX_RETRIES)
+            shorter = None if again else _before_failure(watch, checks, failure, t)
+            if shorter is None:
                 raise _explained(model, failure) from None
             # a watched crossing (a bound, a degrading state set) may come before the failure and
             # explain it: run the segment again up to the last check time IDAS got past
@@ -174,7 +187,9 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
             run.forced_ends.add(shorter)
             continue
         run.add(segment.counters)
-        crossing = None if watch is None else _first_crossing(watch, t, x, z, p, times, checks, segment)
+        just_switched = False
+        crossing = None if watch is None else _first_crossing(model, watch, t, x, z, p, times, checks,
+                                                                 segment)
         reached = len(times) if crossing is None else int(np.searchsorted(times, crossing[0]))
         check_divergence(model, np.asarray(times[:reached]), segment.xs[:, :reached], scale)
         n_out = m if crossing is None else int(np.searchsorted(outputs[:m], crossing[1], side="right"))
@@ -191,6 +206,7 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
                 values = dict(zip(model.output_names, _all_outputs(model, x, z, p, t)))
                 if run.switcher.switch(model, values, t).state_names != model.state_names:
                     model, x, z, p = _switch(run, model, values, t, p, x, z, 0)
+                    just_switched = True
             progress.update(t)
             continue
         t_right, t_left, row = crossing
@@ -227,6 +243,7 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
             x, z = x_cross, z_cross
         else:
             model, x, z, p = _switch(run, model, values, t_cross, p, x_cross, z_cross, what)
+            just_switched = True
             scale = np.maximum(scale[:len(x)] if len(scale) == len(x) else state_scales(model, x),
                                state_scales(model, x))
         t = t_cross
@@ -255,19 +272,39 @@ def _before_failure(watch, checks: list[float], failure: SimulationFailed, t: fl
     return before[-1] if before else None
 
 
-def _first_crossing(watch: Watch, t0, x0, z0, p, times, checks, segment):
+def _first_crossing(model: CompiledModel, watch: Watch, t0, x0, z0, p, times, checks, segment):
     """(check time after the crossing, check time before it, row) of the first watched function
     that changes sign between two check times; None when none does."""
     at = np.searchsorted(times, checks)
+    xs, zs = segment.xs[:, at], segment.zs[:, at]
     values = np.column_stack([watch.values(np.asarray(x0).reshape(-1, 1), np.asarray(z0).reshape(-1, 1),
                                            p, [t0]),
-                              watch.values(segment.xs[:, at], segment.zs[:, at], p, checks)])
+                              watch.values(xs, zs, p, checks)])
     before, after = values[:, :-1], values[:, 1:]
-    stops = np.array([kind != "event" for kind, _ in watch.labels])[:, None]
-    crossed = np.where(stops, (before > 0) & ~(after > 0), (before > 0) != (after > 0))
+    kinds = [kind for kind, _ in watch.labels]
+    events = np.array([k == "event" for k in kinds])[:, None]
+    crossed = np.where(events, (before > 0) != (after > 0), (before > 0) & ~(after > 0))
     crossed &= np.isfinite(before)
-    hits = np.nonzero(crossed.any(axis=0))[0]
-    if not hits.size:
+    # a single-row level's indicator is its quality test already (|pivot| against the largest
+    # alternative); a multi-row level's only proposes a switch, taken where the chosen block's
+    # smallest singular value is below SWITCH_RATIO times that of the block pivoting would choose
+    # (the determinant ratio behind the indicator depends on the columns' units)
+    rows_of = {what: i for i, (kind, what) in enumerate(watch.labels) if kind == "state set"}
+    multi = [rows_of[level] for level, spec in enumerate(model.state_sets)
+             if level in rows_of and int(spec["rows"]) > 1]
+    crossed[multi] = False
+    hits = list(np.nonzero(crossed.any(axis=0))[0])
+    proposed = list(np.nonzero((~(after[multi] > 0)).any(axis=0))[0]) if multi else []
+    proposed = [j for j in proposed if not hits or j < hits[0]]
+    if proposed:
+        at_checks = np.asarray(checks)[proposed]
+        polished = polish_algebraics(model, xs[:, proposed], zs[:, proposed], p, at_checks)
+        outputs = evaluate_outputs(model, xs[:, proposed], polished, p, at_checks)
+        for column, j in enumerate(proposed):
+            quality, level = state_selection_quality(model.state_sets, outputs[:, column])
+            if quality < SWITCH_RATIO and level in rows_of:
+                return float(checks[j]), float(t0 if j == 0 else checks[j - 1]), rows_of[level]
+    if not hits:
         return None
     j = int(hits[0])
     row = int(np.nonzero(crossed[:, j])[0][0])

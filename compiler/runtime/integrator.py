@@ -35,7 +35,7 @@ class Segment:
 
 class Integrator(Protocol):
     def run(self, t0: float, times: Sequence[float], x0: np.ndarray, z0: np.ndarray,
-            p: np.ndarray) -> Segment: ...
+            p: np.ndarray, consistent: bool = False) -> Segment: ...
 
     def run_to(self, t0: float, t1: float, x0: np.ndarray, z0: np.ndarray, p: np.ndarray) -> Segment: ...
 
@@ -50,8 +50,14 @@ class IdasIntegrator:
         self._unit_step: ca.Function | None = None
 
     def run(self, t0: float, times: Sequence[float], x0: np.ndarray, z0: np.ndarray,
-            p: np.ndarray) -> Segment:
-        solver = _make(self.model, self.dae, t0, [float(v) for v in times], self.options)
+            p: np.ndarray, consistent: bool = False) -> Segment:
+        """`consistent`: (x0, z0) solve the algebraic equations already, so IDAS starts from
+        der(x) = ode(x0, z0) instead of its own initial-condition search."""
+        options = self.options
+        if consistent:
+            xdot = np.asarray(self.model.dae(x0, z0, p, t0)[0], dtype=float).reshape(-1)
+            options = dict(options, calc_ic=False, init_xdot=list(xdot))
+        solver = _make(self.model, self.dae, t0, [float(v) for v in times], options)
         return self._call(solver, x0, z0, p, len(times), lambda tau: tau)
 
     def run_to(self, t0: float, t1: float, x0: np.ndarray, z0: np.ndarray, p: np.ndarray) -> Segment:

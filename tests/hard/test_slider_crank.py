@@ -69,10 +69,7 @@ def test_with_the_crank_as_state_the_closure_and_guide_constraints_hold(crank_st
     np.testing.assert_allclose(res["slider.phi"], 0.0, atol=1e-12)
 
 
-@pytest.mark.parametrize("rtol", [1e-9, pytest.param(1e-10, marks=pytest.mark.xfail(
-    strict=True, reason="issue 16: since the runtime checks state sets on its own check grid "
-    "(not on output points), IDAS meets the dead centre at t = 1.27 before the pivot indicator "
-    "crosses; the retry runs on, 3e-4 off the reference at rtol 1e-10"))])
+@pytest.mark.parametrize("rtol", [1e-9, 1e-10])
 def test_equal_priorities_run_correctly_or_stop_naming_the_constraint(equal_priorities, rtol):
     # The rod angle (a first choice of state) is stationary at crank angle +-pi/2: the pivot
     # monitor must switch the state set there (before: a silent 8.1e-5 rad error at rtol 1e-9).
