@@ -13,9 +13,12 @@ from .model import CompiledModel
 RUNAWAY_LIMIT = 1e12     # |value| beyond this times max(1, nominal, |start|) means the run diverged
 
 
-def bound_indicators(model: CompiledModel, outputs: ca.SX) -> tuple[ca.SX, list[tuple[str, str, float]]]:
-    """value - min and max - value for every declared bound of an output: positive inside the
-    domain, crossing zero (downwards, the direction IDAS watches) where the run leaves it."""
+def bound_indicators(model: CompiledModel, outputs: ca.SX, atol: float = 0.0
+                     ) -> tuple[ca.SX, list[tuple[str, str, float]]]:
+    """value - min and max - value for every declared bound of an output, positive inside the
+    domain and crossing zero where the run leaves it by more than round-off and the solver's own
+    absolute tolerance (`atol`, scaled by the output's nominal value): a level that decays to its
+    bound of zero is not a violation when the solver's error dips below it."""
     rows, labels = [], []
     for name, limits in sorted((model.metadata.get("bounds") or {}).items()):
         if name not in model._output_index:
@@ -24,9 +27,14 @@ def bound_indicators(model: CompiledModel, outputs: ca.SX) -> tuple[ca.SX, list[
         for key in ("min", "max"):
             if key in limits:
                 bound = float(limits[key])
-                rows.append(value - bound if key == "min" else bound - value)
+                slack = max(_slack(bound), atol * abs(model.nominals.get(name, 1.0)))
+                rows.append(value - (bound - slack) if key == "min" else bound + slack - value)
                 labels.append((name, key, bound))
     return (ca.vertcat(*rows) if rows else ca.SX(0, 1)), labels
+
+
+def _slack(bound: float) -> float:
+    return 1e-12 + 1e-9 * abs(bound)
 
 
 def bound_violation(model: CompiledModel, name: str, key: str, bound: float, value: float,
@@ -50,7 +58,7 @@ def check_bounds(model: CompiledModel, grid: np.ndarray, names: Sequence[str],
             if key not in limits:
                 continue
             bound = float(limits[key])
-            slack = 1e-12 + 1e-9 * abs(bound)
+            slack = _slack(bound)
             bad = row < bound - slack if key == "min" else row > bound + slack
             hits = np.nonzero(bad)[0]
             if hits.size and (first is None or hits[0] < first[0]):

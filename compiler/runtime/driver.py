@@ -67,7 +67,8 @@ class _Run:
     def integrator(self, model: CompiledModel):
         key = id(model)
         if key not in self.integrators:
-            watch = build_watch(model)
+            atol = self.options.atol
+            watch = build_watch(model, float(atol.get("*", 1e-6)) if isinstance(atol, Mapping) else float(atol))
             opts = integrator_options(model, self.options.rtol, self.options.atol,
                                       self.options.max_steps, self.options.idas_options())
             public_index = [model.output_index(n) for n in self.public]
@@ -135,6 +136,11 @@ def _run_watched(run, model, p, point, progress, stats, began) -> Result:
     except KeyboardInterrupt:
         raise SimulationInterrupted(f"interrupted at t = {run.t:.10g}", float(run.t),
                                     "interrupted") from None
+    except Exception:
+        if interrupts.pending:              # CasADi's wrapper turns Ctrl-C into other errors
+            raise SimulationInterrupted(f"interrupted at t = {run.t:.10g}", float(run.t),
+                                        "interrupted") from None
+        raise
     finally:
         progress.close()
     stats["run_time"] = _time.perf_counter() - began
@@ -224,11 +230,17 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
         else:
             left = times.index(t_left) if t_left in times else -1
             x_left, z_left = (segment.xs[:, left], segment.zs[:, left]) if left >= 0 else (x, z)
-            t_cross, x_cross, z_cross = _locate(run, integrator, watch, row, t_left, t_right,
-                                                x_left, z_left, p)
+            t_cross, x_cross, z_cross, crossed = _locate(run, integrator, watch, row, t_left, t_right,
+                                                         x_left, z_left, p)
             # outputs between the check before the crossing and the crossing were computed past a
             # kink the segment stepped over: recompute them up to the crossing
             k = _refill(run, model, integrator, p, public_index, k, t_left, t_cross, x_left, z_left)
+            if not crossed:
+                # the crossing was the long run's own error: a run from the check before it does
+                # not cross; go on from there
+                t, x, z = t_cross, x_cross, z_cross
+                progress.update(t)
+                continue
         values = dict(zip(model.output_names, _all_outputs(model, x_cross, z_cross, p, t_cross)))
         restarts_here = restarts_here + 1 if t_cross - t <= 1e-12 * max(1.0, abs(t)) else 0
         if restarts_here > MAX_EVENTS_AT_ONE_TIME:
@@ -313,7 +325,8 @@ def _first_crossing(model: CompiledModel, watch: Watch, t0, x0, z0, p, times, ch
 
 def _locate(run: _Run, integrator, watch: Watch, row: int, t_a: float, t_b: float, x_a, z_a, p):
     """The crossing of watch row `row` in (t_a, t_b] by the Illinois method on short IDAS runs
-    from (t_a, x_a, z_a); returns the first time found on the far side and the point there."""
+    from (t_a, x_a, z_a): the first time found on the far side, the point there and True; or t_b,
+    the point there and False when the run from t_a does not cross at all."""
     def value_at(t):
         if t == t_a:
             return float(watch.values(np.asarray(x_a).reshape(-1, 1), np.asarray(z_a).reshape(-1, 1),
@@ -325,6 +338,8 @@ def _locate(run: _Run, integrator, watch: Watch, row: int, t_a: float, t_b: floa
 
     g_a, _, _ = value_at(t_a)
     g_b, x_b, z_b = value_at(t_b)
+    if (g_b > 0) == (g_a > 0):
+        return t_b, x_b, z_b, False
     lo, hi, g_lo, g_hi, side = t_a, t_b, g_a, g_b, 0
     for _ in range(ROOT_ITERATIONS):
         if hi - lo <= ROOT_TOLERANCE * max(1.0, abs(hi)):
@@ -343,7 +358,7 @@ def _locate(run: _Run, integrator, watch: Watch, row: int, t_a: float, t_b: floa
             if side == 1:
                 g_lo *= 0.5
             side = 1
-    return hi, x_b, z_b
+    return hi, x_b, z_b, True
 
 
 def _refill(run: _Run, model, integrator, p, public_index, k: int, t_a: float, t_b: float,

@@ -37,7 +37,7 @@ class Watch:
         return np.asarray(out, dtype=float).reshape(len(self.labels), n)
 
 
-def build_watch(model: CompiledModel) -> Watch | None:
+def build_watch(model: CompiledModel, atol: float = 0.0) -> Watch | None:
     x, z, p, t = model.symbols()
     rows: list[ca.SX] = []
     labels: list[tuple] = []
@@ -49,7 +49,7 @@ def build_watch(model: CompiledModel) -> Watch | None:
             rows.append(relations[i])
             labels.append(("event", label))
     outputs = model.outputs(x, z, p, t) if model.output_names else ca.SX(0, 1)
-    bounds, bound_labels = bound_indicators(model, outputs)
+    bounds, bound_labels = bound_indicators(model, outputs, atol)
     for i, label in enumerate(bound_labels):
         rows.append(bounds[i])
         labels.append(("bound", label))

@@ -54,7 +54,7 @@ def test_a_failing_sample_is_recorded_with_its_reason_and_time_and_the_others_fi
     assert np.isnan(table["final(x)"][2]) and np.isfinite(table["final(x)"][4])
     assert np.isnan(table["failed_at"][0]) and table["failed_at"][3] == failed[3].time_reached
     assert set(result.trajectories()["sample"]) == {0, 1, 4, 5}
-    assert "2 failed" in result.summary() and "sample 2 (c=-2, k=1) failed at t = 0.405465" in result.summary()
+    assert "2 failed" in result.summary() and "sample 2 (c=-2, k=1) failed at t = 0.40546" in result.summary()
 
 
 def test_structural_final_unknown_and_unused_parameters_are_refused_by_name(decay):
