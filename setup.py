@@ -2,7 +2,7 @@
 
 The Dyad library stays in the top-level `components/` folder, where library authors look for it,
 and is installed as the package `compiler.components`: in a wheel it is copied there, in an
-editable install setuptools maps the name to the folder. Either way `compiler.library` finds it
+editable install setuptools maps the name to the folder. Either way `compiler.model.library` finds it
 through importlib.resources, never through a path relative to the source tree. This file exists
 only because pyproject.toml cannot combine package discovery with one renamed folder.
 """

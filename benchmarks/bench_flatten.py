@@ -15,7 +15,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from compiler.flatten import flatten_model  # noqa: E402
+from compiler.model.flatten import flatten_model  # noqa: E402
 from suite.chain_model import write_chain  # noqa: E402
 
 def bench(n: int, repeats: int, folder: Path) -> float:

@@ -17,8 +17,9 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from tests.runtime import runtime_systems as systems  # noqa: E402
-from compiler import ccodegen, runtime  # noqa: E402
-from compiler.lower_casadi import lower  # noqa: E402
+from compiler import runtime  # noqa: E402
+from compiler.lower import ccodegen
+from compiler.lower.to_casadi import lower  # noqa: E402
 
 
 def best_run(model, repeats: int = 3) -> tuple[float, runtime.Result]:

@@ -35,8 +35,8 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import sympy  # noqa: E402
 
-from compiler.flatten import flatten_model  # noqa: E402
-from compiler.lower_casadi import lower  # noqa: E402
+from compiler.model.flatten import flatten_model  # noqa: E402
+from compiler.lower.to_casadi import lower  # noqa: E402
 from compiler.pipeline import start_point  # noqa: E402
 from compiler.structure import reduce as structure  # noqa: E402
 from compiler.structure.alias import eliminate_aliases  # noqa: E402

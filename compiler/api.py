@@ -5,7 +5,7 @@ import time
 from typing import Mapping, Sequence
 
 from compiler import runtime
-from compiler.flat import FlatSystem
+from compiler.model.flat import FlatSystem
 from compiler.pipeline import Compilation, compile_spec, flatten_spec
 from compiler.simulate import runtime_errors
 
@@ -33,9 +33,9 @@ def simulate_compiled(compilation: Compilation, stop: float, *, start: float = 0
                                         max_steps=max_steps)
     switcher = None
     if compilation.dynamic:
-        from compiler.dynamic import Switcher
+        from compiler.lower.state_set_variants import Switcher
         switcher = Switcher(compilation.flat, compilation.analysis, compilation.variant)
-    from compiler.run_checks import checked_run       # missing parameter values, singular start
+    from compiler.model.run_checks import checked_run       # missing parameter values, singular start
     with checked_run(compilation, params, start), runtime_errors(compilation.reduced):
         result = runtime.simulate(compilation.model, options=options, switcher=switcher)
     result.stats["compile_time"] = sum(compilation.timings.values())

@@ -179,8 +179,8 @@ def _cmd_fmt(args) -> int:
 
 
 def _cmd_check(args) -> int:
-    from compiler.flatten import check_library, flatten_model, summarize
-    from compiler.model_check import assess
+    from compiler.model.flatten import check_library, flatten_model, summarize
+    from compiler.model.model_check import assess
     if os.path.isdir(args.model):
         problems = check_library(args.model)
         for line in problems:
@@ -193,7 +193,7 @@ def _cmd_check(args) -> int:
 
 
 def _cmd_flatten(args) -> int:
-    from compiler.flatten import flatten_model, format_flat
+    from compiler.model.flatten import flatten_model, format_flat
     print(format_flat(flatten_model(args.model, args.lib)))
     return 0
 
@@ -207,8 +207,8 @@ def _cmd_inspect(args) -> int:
 
 def _cmd_compile(args) -> int:
     from compiler.cli_outputs import check_output_folder
-    from compiler.codegen import write_module
-    from compiler.generate import module_name
+    from compiler.lower.codegen import write_module
+    from compiler.lower.generate import module_name
     from compiler.pipeline import compile_spec
     check_output_folder(args.output_dir, "-o")      # before the compile it would otherwise waste
     compilation = compile_spec(args.model, args.lib)
@@ -242,7 +242,7 @@ def _cmd_simulate(args) -> int:
     params = options.convert_overrides(overrides, model.parameters, units)
     if args.codegen == "c":
         import time
-        from compiler.ccodegen import use_c_code
+        from compiler.lower.ccodegen import use_c_code
         began = time.perf_counter()
         compilation.model = use_c_code(compilation.model)
         compilation.timings["codegen c"] = time.perf_counter() - began
@@ -269,7 +269,7 @@ def _cmd_sweep(args) -> int:
 
 
 def _cmd_test(args) -> int:
-    from compiler.golden import main_test
+    from compiler.testing.golden import main_test
     return main_test(args.model, args.lib, golden_dir=args.golden, accept=args.accept)
 
 
@@ -280,7 +280,7 @@ def _cmd_animate(args) -> int:
 
 
 def _cmd_generate(args) -> int:
-    from compiler.generate import generate_all
+    from compiler.lower.generate import generate_all
     for path in generate_all(args.output_dir):
         print(f"wrote {path}")
     return 0

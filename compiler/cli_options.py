@@ -181,7 +181,7 @@ def parse_override(text: str) -> Override:
         raise DyadError(f"parameter override `{text}`: the value must be a finite number, got {number}")
     unit = match.group(2) or None
     if unit is not None:
-        from compiler.units import UnitError, parse_unit
+        from compiler.model.units import UnitError, parse_unit
         try:
             parse_unit(unit)       # readable now; whether it fits the parameter is known after flattening
         except UnitError as err:
@@ -194,7 +194,7 @@ def convert_overrides(overrides: list[Override], parameters: Mapping[str, float]
                       declared: Mapping[str, str]) -> dict[str, float]:
     """NAME -> value in the declared unit of NAME. A name that is no parameter keeps its value so
     that the runtime's unknown-parameter error (with its did-you-mean) reports it."""
-    from compiler.units import UnitError, conversion_factor, parse_unit
+    from compiler.model.units import UnitError, conversion_factor, parse_unit
 
     values: dict[str, float] = {}
     for override in overrides:

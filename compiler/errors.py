@@ -1,6 +1,7 @@
 """Located diagnostics: every user-facing error names FILE:LINE:COL and shows the source line."""
 from __future__ import annotations
 
+import difflib
 from dataclasses import dataclass, field
 import os
 from pathlib import Path
@@ -104,3 +105,15 @@ def _render(kind: str, message: str, span: Span | None) -> str:
     width = max(1, min(width, len(text) - span.column + 1 if len(text) >= span.column else 1))
     caret = " " * (span.column - 1) + "^" + "~" * (width - 1)
     return f"{head}\n    {text}\n    {caret}"
+
+
+def closest(name: str, candidates, n: int = 1, cutoff: float = 0.6) -> list[str]:
+    """The candidates closest to a misspelt `name`, best first (the compile side's one matcher;
+    the runtime, which imports nothing of the compiler, has runtime.did_you_mean)."""
+    return difflib.get_close_matches(name, sorted(set(candidates)), n=n, cutoff=cutoff)
+
+
+def suggest_name(name: str, candidates) -> str | None:
+    """A hint such as "did you mean `mass`?", or None when nothing is close."""
+    match = closest(name, candidates)
+    return f"did you mean `{match[0]}`?" if match else None

@@ -5,11 +5,11 @@ import time
 from dataclasses import dataclass, field
 from typing import Sequence
 
-from compiler.flat import FlatSystem
-from compiler.lower_casadi import lower
-from compiler.model_check import require_standalone
+from compiler.model.flat import FlatSystem
+from compiler.lower.to_casadi import lower
+from compiler.model.model_check import require_standalone
 from compiler.runtime import CompiledModel
-from compiler.dynamic import build_variant, monitored_levels
+from compiler.lower.state_set_variants import build_variant, monitored_levels
 from compiler.structure.reduce import Analysis, StructureReport, analyse, reduce
 from compiler.structure.reduced import ReducedSystem
 
@@ -30,7 +30,7 @@ class Compilation:
 
 
 def flatten_spec(spec: str, lib_dirs: Sequence[str] = ()) -> tuple[FlatSystem, dict[str, float]]:
-    from compiler.flatten import flatten_model
+    from compiler.model.flatten import flatten_model
     began = time.perf_counter()
     flat = flatten_model(spec, list(lib_dirs))
     return flat, {"parse+flatten": time.perf_counter() - began}

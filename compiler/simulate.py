@@ -8,7 +8,7 @@ from typing import Iterator
 
 from compiler import runtime
 from compiler.errors import DyadError, Note, SimulationError
-from compiler.lower_casadi import lower
+from compiler.lower.to_casadi import lower
 from compiler.runtime import CompiledModel, Result
 from compiler.structure.reduced import ReducedSystem
 
@@ -20,7 +20,7 @@ def compile_model(reduced: ReducedSystem, codegen: str | None = None) -> Compile
     if codegen not in (None, "", "none", "vm"):
         if codegen != "c":
             raise DyadError(f"unknown code generation target '{codegen}' (expected 'c' or none)")
-        from compiler.ccodegen import compile_c
+        from compiler.lower.ccodegen import compile_c
         model = compile_c(model)
     model.compile_time = time.perf_counter() - began
     return model

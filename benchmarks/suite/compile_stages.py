@@ -23,9 +23,11 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from compiler import ccodegen, runtime  # noqa: E402
-from compiler.flatten import flatten_resolved  # noqa: E402
-from compiler.library import Library, resolve_model  # noqa: E402
+from compiler import runtime  # noqa: E402
+
+from compiler.lower import ccodegen
+from compiler.model.flatten import flatten_resolved  # noqa: E402
+from compiler.model.library import Library, resolve_model  # noqa: E402
 from compiler.pipeline import compile_flat  # noqa: E402
 from compiler.syntax.parser import parse_file  # noqa: E402
 

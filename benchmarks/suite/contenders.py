@@ -12,7 +12,9 @@ import warnings
 
 import numpy as np
 
-from compiler import api, ccodegen
+from compiler import api
+
+from compiler.lower import ccodegen
 from compiler.errors import DyadError
 from suite.problems import Problem, contender_module
 

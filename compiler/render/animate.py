@@ -10,10 +10,10 @@ from typing import Sequence
 
 import numpy as np
 
-from compiler.balance import span_from_text
+from compiler.model.balance import span_from_text
 from compiler.errors import DyadError
 from compiler.render import planar, video
-from compiler.render.atomic import write_atomically
+from compiler.runtime.writers import atomic_write
 
 LINK_COLOR = "#f2a900"
 LINK_EDGE = "#5a4300"
@@ -77,7 +77,7 @@ def animate(compilation, result, path, *, fps: int = 12, frames: int = 120, dpi:
     times = np.linspace(float(result.time[0]), float(result.time[-1]), frames)
     fig, draw_frame, moving = _build_figure(flat, scene, tracks, result)
     render = _frame_renderer(fig, draw_frame, moving, dpi)
-    write_atomically(path, lambda temp_path: video.write_video(temp_path, chosen, render, times, fps))
+    atomic_write(path, lambda temp_path: video.write_video(temp_path, chosen, render, times, fps))
     return {"frames": frames, "fps": fps, **scene.summary()}
 
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from compiler.flat import FlatSystem
+from compiler.model.flat import FlatSystem
 
 # Short type names (the last segment of the qualified component name) and the role they play.
 LINK_TYPES = {"BodyShape"}

@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from compiler.errors import DyadError
-from compiler.render.atomic import write_atomically
+from compiler.runtime.writers import atomic_write
 
 AXES = ("boom", "stick", "bucket")
 AXIS_COLORS = {"boom": "#1f77b4", "stick": "#ff7f0e", "bucket": "#2ca02c"}
@@ -41,7 +41,7 @@ def plot_excavator(result, path) -> None:
         _payload(panels[2, 1], result)
         fig.suptitle(f"{result.model_name or 'Excavator'}: dig cycle", fontsize=14)
         fig.tight_layout()
-        write_atomically(path, lambda temp_path: fig.savefig(temp_path, dpi=100))
+        atomic_write(path, lambda temp_path: fig.savefig(temp_path, dpi=100))
     finally:
         plt.close(fig)
 

@@ -391,7 +391,7 @@ def _segment_ends(model: CompiledModel, p: np.ndarray, options: SimulationOption
 
 
 def with_clock(model: CompiledModel, p: np.ndarray, t_a: float, t_b: float) -> np.ndarray:
-    """p with the model's event clock (compiler/events.py) in the middle of the segment [t_a, t_b]:
+    """p with the model's event clock (compiler/lower/events.py) in the middle of the segment [t_a, t_b]:
     conditions on time hold one value over the whole segment, its ends included."""
     name = model.metadata.get("event_clock")
     if name is None:

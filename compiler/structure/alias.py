@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import sympy
 
-from compiler.flat import TIME, Equation, FlatSystem, der_name
+from compiler.model.flat import TIME, Equation, FlatSystem, der_name
 
 
 @dataclass

@@ -5,7 +5,7 @@ from dataclasses import dataclass
 
 import sympy
 
-from compiler.flat import der_name
+from compiler.model.flat import der_name
 from compiler.structure.diagnostics import structural_singularity_error
 from compiler.structure.graph.pantelides import StructurallySingular, pantelides, structural_index
 from compiler.structure.indexed import IndexedSystem

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 import sympy
 
-from compiler.flat import TIME, Origin, der_name
+from compiler.model.flat import TIME, Origin, der_name
 
 
 @dataclass

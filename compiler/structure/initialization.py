@@ -7,7 +7,7 @@ from __future__ import annotations
 import sympy
 
 from compiler.errors import DyadError, Note
-from compiler.flat import FlatSystem, Origin
+from compiler.model.flat import FlatSystem, Origin
 from compiler.structure.graph.matching import maximum_matching
 from compiler.structure.reduced import Assignment, InitialProblem
 
@@ -23,7 +23,7 @@ def build_initial_problem(flat: FlatSystem, alias, states: list[str], algebraics
     known = ({sympy.Symbol(n) for n in states} | {sympy.Symbol(n) for n in algebraics}
              | {sympy.Symbol(a.target) for a in assignments})
     parameters = {sympy.Symbol(p.name) for p in flat.parameters}
-    from compiler.flat import TIME
+    from compiler.model.flat import TIME
 
     residuals = list(alg)
     origins = list(alg_origins)

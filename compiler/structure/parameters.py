@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import sympy
 
-from compiler.flat import FlatSystem
+from compiler.model.flat import FlatSystem
 from compiler.structure.reduced import ParameterInfo
 
 

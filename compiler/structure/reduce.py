@@ -8,7 +8,7 @@ import numpy as np
 import sympy
 
 from compiler.errors import DyadError, Note
-from compiler.flat import FlatSystem, Origin
+from compiler.model.flat import FlatSystem, Origin
 from compiler.structure.alias import AliasResult, eliminate_aliases
 from compiler.structure.causalize import Causalization, causalize
 from compiler.structure.derivative_rank import RankReport, remove_derivative_dependencies

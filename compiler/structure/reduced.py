@@ -7,7 +7,7 @@ Expressions are sympy in the symbols of: states `x`, algebraic unknowns `z`, par
 `TIME`, and the targets of `assignments` (each computed, in order, from x, z, p, t and the targets
 of earlier assignments). Lowering inlines assignments as shared CasADi subexpressions.
 `observables` are evaluated after the solve only (pruned from the integrated system); they may use
-everything above and earlier observables. Names follow `compiler.flat` (`der(x)` for derivatives).
+everything above and earlier observables. Names follow `compiler.model.flat` (`der(x)` for derivatives).
 """
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import sympy
 
-from compiler.flat import Origin
+from compiler.model.flat import Origin
 
 
 @dataclass

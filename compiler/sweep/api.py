@@ -2,7 +2,6 @@
 check every request against the compiled model, run the samples, collect the outcomes."""
 from __future__ import annotations
 
-import difflib
 import multiprocessing
 import os
 from dataclasses import dataclass, field, replace
@@ -10,7 +9,7 @@ from pathlib import Path
 from typing import Callable, Mapping, Sequence
 
 from compiler.errors import DyadError, Note
-from compiler.runtime import CompiledModel
+from compiler.runtime import CompiledModel, did_you_mean
 from compiler.sweep.design import Design, as_design
 from compiler.sweep.engine import require_dask, run_dask, run_serial
 from compiler.sweep.interrupt import DeferredInterrupt
@@ -143,9 +142,8 @@ def check_parameters(model: CompiledModel, names: Sequence[str], flat_parameters
             problems.append(f"`{name}` does not enter the compiled model (nothing it simulates depends "
                             "on it), so sweeping it would change nothing")
         else:
-            close = difflib.get_close_matches(name, model.parameter_names, n=3, cutoff=0.5)
             problems.append(f"`{name}` is not a parameter of {model.name}"
-                            + (f" (did you mean {', '.join(repr(c) for c in close)}?)" if close else ""))
+                            + did_you_mean(name, model.parameter_names))
             continue
         if span is not None:
             notes.append(Note(f"`{name}` is declared here", span))
@@ -161,9 +159,8 @@ def _job(model: CompiledModel, options: SweepOptions) -> Job:
     metrics: list[Metric] = parse_metrics(list(options.metrics))
     for name in list(variables) + [n for m in metrics for n in m.names]:
         if name not in known:
-            close = difflib.get_close_matches(name, model.output_names, n=3, cutoff=0.5)
             raise DyadError(f"`{name}` is not a signal of {model.name}"
-                            + (f" (did you mean {', '.join(repr(c) for c in close)}?)" if close else ""))
+                            + did_you_mean(name, model.output_names))
     return Job(float(options.stop), float(options.start), float(options.rtol), float(options.atol),
                int(options.points), tuple(float(t) for t in options.saveat) if options.saveat is not None
                else None, tuple(v for v in variables if v != "time"), tuple(metrics))

@@ -3,13 +3,13 @@ atomically: the file appears whole or not at all."""
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
-from typing import Callable, Mapping
+from typing import Mapping
 
 import numpy as np
 
 from compiler.errors import DyadError
+from compiler.runtime.writers import atomic_write
 
 EXTENSIONS = {".parquet": "parquet", ".pq": "parquet", ".csv": "csv"}
 
@@ -76,22 +76,3 @@ def _quote(text: str) -> str:
     if any(c in text for c in ',"\n\r'):
         return '"' + text.replace('"', '""') + '"'
     return text
-
-
-def atomic_write(path: Path, write: Callable[[str], None]) -> None:
-    directory = path.resolve().parent
-    directory.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=directory)
-    os.close(fd)
-    try:
-        write(tmp)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)            # mkstemp's 0600 is not what a plain open gives
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from compiler.errors import DyadError
-from compiler.flatten import flatten_model
+from compiler.model.flatten import flatten_model
 
 
 class Sources:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sympy
 
-from compiler.flatten import check_balance
+from compiler.model.flatten import check_balance
 
 ELECTRICAL = """
 connector Pin

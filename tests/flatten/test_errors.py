@@ -1,7 +1,7 @@
 """Located semantic errors: each names FILE:LINE:COL of the offending source."""
 from __future__ import annotations
 
-from compiler.flatten import check_balance
+from compiler.model.flatten import check_balance
 
 PIN = """
 connector Pin
@@ -23,7 +23,7 @@ component Model
   part = Leaky()    # HERE
 end
 """)
-    from compiler.flatten import flatten_model
+    from compiler.model.flatten import flatten_model
     flat = flatten_model(f"{path}:Model")
     import pytest
     from compiler.errors import DyadError
@@ -46,7 +46,7 @@ relations
   a = 2
 end
 """)
-    from compiler.flatten import flatten_model
+    from compiler.model.flatten import flatten_model
     import pytest
     from compiler.errors import DyadError
     with pytest.raises(DyadError) as info:

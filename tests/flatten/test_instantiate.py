@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sympy
 
-from compiler.flat import ALGEBRAIC, INPUT, OUTPUT, STATE_CANDIDATE
+from compiler.model.flat import ALGEBRAIC, INPUT, OUTPUT, STATE_CANDIDATE
 from tests.flatten.conftest import parameter_value, residuals
 
 BASES = """

@@ -4,9 +4,9 @@ from __future__ import annotations
 import pytest
 
 from compiler.errors import DyadError
-from compiler.flatten import flatten_model
-from compiler.functions import GLOBAL_REGISTRY, register_function
-from compiler.library import Library, load_model
+from compiler.model.flatten import flatten_model
+from compiler.model.functions import GLOBAL_REGISTRY, register_function
+from compiler.model.library import Library, load_model
 
 
 def test_resolving_a_model_parses_only_the_files_it_needs(sources):
@@ -34,8 +34,8 @@ def test_resolving_a_model_parses_only_the_files_it_needs(sources):
     library = Library([sources.root])
     lib, definition, qualified = load_model("Pkg.A", library=library)
     assert (definition.name, qualified) == ("A", "Pkg.A")
-    from compiler.flatten import flatten_resolved
-    from compiler.library import resolve_model
+    from compiler.model.flatten import flatten_resolved
+    from compiler.model.library import resolve_model
     flat = flatten_resolved(resolve_model("Pkg.A", library), library)
     assert [v.name for v in flat.variables] == ["b.x"]
     assert library.parse_count == 2

@@ -16,9 +16,9 @@ import pytest
 from compiler import api
 from compiler.cli import main
 from compiler.errors import DyadError
-from compiler.flatten import flatten_model
-from compiler.floating import floating_clusters
-from compiler.model_check import assess
+from compiler.model.flatten import flatten_model
+from compiler.model.floating import floating_clusters
+from compiler.model.model_check import assess
 
 LIB = """
 connector Pin

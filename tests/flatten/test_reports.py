@@ -1,7 +1,7 @@
 """check_library, summarize and format_flat (the CLI's views)."""
 from __future__ import annotations
 
-from compiler.flatten import check_library, format_flat, summarize
+from compiler.model.flatten import check_library, format_flat, summarize
 
 
 def test_check_library_reports_each_component(sources):

@@ -6,8 +6,8 @@ from pathlib import Path
 
 import sympy
 
-from compiler.flatten import check_balance, flatten_model
-from compiler.library_path import shipped_library_root
+from compiler.model.flatten import check_balance, flatten_model
+from compiler.model.library_path import shipped_library_root
 from tests.flatten.test_connect import PLANAR
 
 SOIL = "MultibodyComponents.PlanarMechanics.examples.excavator.SoilContact"

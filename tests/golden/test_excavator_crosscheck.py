@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from compiler.golden_compare import read_golden
+from compiler.testing.golden_compare import read_golden
 from tests.reference import excavator_minimal as reference
 
 GOLDEN = (Path(__file__).resolve().parent

@@ -10,12 +10,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from compiler import api, golden
+from compiler import api
+
+from compiler.testing import golden
 from compiler.errors import DyadError
 from compiler.syntax import ast
 from compiler.syntax.parser import parse_source
-from compiler.golden_cases import cases_from_metadata, discover
-from compiler.golden_compare import Golden, compare_signals, golden_path, read_golden, write_golden
+from compiler.testing.golden_cases import cases_from_metadata, discover
+from compiler.testing.golden_compare import Golden, compare_signals, golden_path, read_golden, write_golden
 
 HERE = Path(__file__).resolve().parent
 DECAY = str(HERE / "models" / "Decay.dyad")

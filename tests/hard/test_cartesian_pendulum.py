@@ -93,7 +93,7 @@ def test_large_amplitude_one_period_with_dynamic_state_selection(large_amplitude
 
 def test_large_amplitude_20_seconds_with_dynamic_state_selection(large_amplitude):
     # 20 s, 7.6 periods, 30 switches at rtol 1e-8. Measured: errors 1.7e-5 (x), 1.2e-5 (y),
-    # 6.7e-5 (u), 8.9e-5 (v), 8809 IDAS steps, 0.6 s. (An earlier state of compiler/dynamic.py took
+    # 6.7e-5 (u), 8.9e-5 (v), 8809 IDAS steps, 0.6 s. (An earlier state of compiler/lower/state_set_variants.py took
     # ~640k steps and ~420 s for the same run: after each switch the steps collapsed to ~1e-5 s.)
     res = api.simulate_compiled(large_amplitude, 20.0, points=2001, rtol=1e-8, atol=1e-8)
     assert len(res.stats["state_switches"]) >= 28

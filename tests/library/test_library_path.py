@@ -15,9 +15,9 @@ from pathlib import Path
 import pytest
 
 from compiler.errors import DyadError
-from compiler.flatten import flatten_model
-from compiler.library import Library
-from compiler.library_path import LIBRARY_PATH_VARIABLE, shipped_library_root
+from compiler.model.flatten import flatten_model
+from compiler.model.library import Library
+from compiler.model.library_path import LIBRARY_PATH_VARIABLE, shipped_library_root
 
 # der(x) = twice(1) with x(0) = 0: x(0.5) = 1 if and only if the plugin's `twice` was used.
 USES_PLUGIN = """\

@@ -1,5 +1,5 @@
 """The standard package `Dyad` (components/Dyad/): its quantity types and connectors parse, are
-defined once, carry units that compiler.units reads, cover every base type the published Dyad
+defined once, carry units that compiler.model.units reads, cover every base type the published Dyad
 libraries use, and are found from any package by their plain name."""
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import pytest
 from compiler.api import flatten
 from compiler.syntax import ast
 from compiler.syntax.parser import parse_file
-from compiler.units import UnitError, parse_unit
+from compiler.model.units import UnitError, parse_unit
 
 DYAD = Path(__file__).resolve().parents[2] / "components" / "Dyad"
 

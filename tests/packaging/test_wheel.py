@@ -131,8 +131,8 @@ def test_installed_dyadc_simulates_the_excavator_from_an_empty_folder(installed,
     probe = textwrap.dedent(f"""
         import json, sys
         import compiler, compiler.cli
-        from compiler.library import Library
-        from compiler.library_path import shipped_library_root
+        from compiler.model.library import Library
+        from compiler.model.library_path import shipped_library_root
         print(json.dumps({{
             "modules": [compiler.__file__, compiler.cli.__file__],
             "library": str(shipped_library_root()),

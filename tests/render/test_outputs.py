@@ -10,7 +10,7 @@ from PIL import Image
 from compiler import api
 from compiler.errors import DyadError
 from compiler.render import animate, scene_outputs
-from compiler.render.atomic import write_atomically
+from compiler.runtime.writers import atomic_write
 from compiler.render.scene_plot import plot_excavator
 from compiler.runtime import Result
 from tests.render.conftest import MODELS
@@ -83,14 +83,15 @@ def test_failed_write_leaves_neither_target_nor_temporary(tmp_path):
         raise RuntimeError("disk full")
 
     with pytest.raises(RuntimeError):
-        write_atomically(tmp_path / "x.gif", fail)
+        atomic_write(tmp_path / "x.gif", fail)
     assert os.listdir(tmp_path) == []
 
 
 def test_written_file_gets_the_usual_permissions_not_the_private_temporary_ones(tmp_path):
     mask = os.umask(0o022)
     try:
-        target = write_atomically(tmp_path / "x.txt", lambda temp: open(temp, "w").close())
+        target = tmp_path / "x.txt"
+        atomic_write(target, lambda temp: open(temp, "w").close())
     finally:
         os.umask(mask)
     assert target.stat().st_mode & 0o777 == 0o644

@@ -5,7 +5,7 @@ from __future__ import annotations
 import sympy
 
 from compiler.errors import Span
-from compiler.flat import TIME, Origin
+from compiler.model.flat import TIME, Origin
 from compiler.structure.reduced import Assignment, InitialProblem, ParameterInfo, ReducedSystem
 
 S = sympy.Symbol

@@ -10,9 +10,10 @@ import numpy as np
 import pytest
 
 from tests.runtime import runtime_systems as systems
-from compiler import ccodegen, runtime
-from compiler.codegen import write_module
-from compiler.lower_casadi import lower
+from compiler import runtime
+from compiler.lower import ccodegen
+from compiler.lower.codegen import write_module
+from compiler.lower.to_casadi import lower
 from compiler.simulate import compile_model
 
 needs_cc = pytest.mark.skipif(ccodegen.find_compiler() is None, reason="no C compiler")

@@ -12,9 +12,9 @@ import pytest
 
 from tests.runtime import runtime_systems as systems
 from compiler import runtime
-from compiler.codegen import write_module
+from compiler.lower.codegen import write_module
 from compiler.errors import DyadError
-from compiler.lower_casadi import lower
+from compiler.lower.to_casadi import lower
 
 REPO = Path(__file__).resolve().parents[2]
 
@@ -32,8 +32,8 @@ GENERATE = """
 import sys
 sys.path.insert(0, {repo!r})
 from tests.runtime import runtime_systems as systems
-from compiler.codegen import write_module
-from compiler.lower_casadi import lower
+from compiler.lower.codegen import write_module
+from compiler.lower.to_casadi import lower
 write_module(lower(systems.{system}()), {module!r}, {out!r}, standalone=True)
 """
 

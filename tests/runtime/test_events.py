@@ -101,7 +101,7 @@ relations
 
 def test_a_bound_crossed_between_output_points_stops_the_run_where_it_is_crossed(tmp_path):
     from compiler import runtime
-    from compiler.lower_casadi import lower
+    from compiler.lower.to_casadi import lower
     from tests.runtime.runtime_systems import draining
     model = lower(draining())
     with pytest.raises(runtime.SimulationFailed) as failure:

@@ -8,7 +8,7 @@ import sympy
 from tests.runtime import runtime_systems as systems
 from compiler import runtime
 from compiler.errors import SimulationError
-from compiler.lower_casadi import lower
+from compiler.lower.to_casadi import lower
 from compiler.simulate import simulate_reduced
 
 

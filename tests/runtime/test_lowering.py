@@ -10,8 +10,8 @@ import pytest
 import sympy
 
 from compiler.errors import DyadError
-from compiler.flat import TIME
-from compiler.lower_casadi import SXLowering, lower
+from compiler.model.flat import TIME
+from compiler.lower.to_casadi import SXLowering, lower
 from compiler.structure.reduced import Assignment, InitialProblem, ParameterInfo, ReducedSystem
 
 a, b, c = sympy.symbols("a b c")

@@ -9,7 +9,7 @@ import pytest
 
 from tests.runtime import runtime_systems as systems
 from compiler import runtime
-from compiler.lower_casadi import lower
+from compiler.lower.to_casadi import lower
 
 
 @pytest.fixture(scope="module")

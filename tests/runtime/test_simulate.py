@@ -12,8 +12,8 @@ from tests.runtime import runtime_systems as systems
 from compiler import runtime
 from compiler.runtime.idas import integrator_options
 from compiler.errors import DyadError, SimulationError
-from compiler.flat import TIME
-from compiler.lower_casadi import lower
+from compiler.model.flat import TIME
+from compiler.lower.to_casadi import lower
 from compiler.simulate import compile_model, simulate_model, simulate_reduced
 from compiler.structure.reduced import InitialProblem, ReducedSystem
 

@@ -18,8 +18,10 @@ from pathlib import Path
 
 import pytest
 
-from compiler import c_cache, ccodegen
-from compiler.lower_casadi import lower
+from compiler.lower import c_cache
+
+from compiler.lower import ccodegen
+from compiler.lower.to_casadi import lower
 from tests.runtime import runtime_systems as systems
 
 pytestmark = pytest.mark.skipif(ccodegen.find_compiler() is None, reason="no C compiler")

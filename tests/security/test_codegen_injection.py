@@ -16,9 +16,9 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from compiler import ccodegen
-from compiler.codegen import docstring_text, module_source
-from compiler.lower_casadi import lower
+from compiler.lower import ccodegen
+from compiler.lower.codegen import docstring_text, module_source
+from compiler.lower.to_casadi import lower
 from compiler.runtime import CompiledModel
 from tests.runtime import runtime_systems as systems
 
@@ -104,7 +104,7 @@ def test_hostile_names_do_not_run_when_the_module_is_imported(tmp_path, hostile_
 
 @pytest.mark.skipif(ccodegen.find_compiler() is None, reason="no C compiler")
 def test_hostile_names_never_reach_the_c_code(tmp_path, hostile_library, monkeypatch):
-    from compiler.codegen import write_module
+    from compiler.lower.codegen import write_module
     from compiler.pipeline import compile_spec
     monkeypatch.setenv("DYADC_CACHE", str(tmp_path / "cache"))
     root, model_file = hostile_library

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import sympy
 
-from compiler.flat import ALGEBRAIC, STATE_CANDIDATE, Equation, FlatSystem, Origin, Parameter, Variable
+from compiler.model.flat import ALGEBRAIC, STATE_CANDIDATE, Equation, FlatSystem, Origin, Parameter, Variable
 
 
 def build(name, variables, parameters, equations, initial=(), derivatives=None):
@@ -40,7 +40,7 @@ def capacitor_mirror(u0=0.0):
     e1:  C (y1' - y2') + (y1 - sin t)/R0 = 0
     e2: -C (y1' - y2') + y2 (1/R1 + 1/R2) - Ub/R2 = 0
     """
-    from compiler.flat import TIME
+    from compiler.model.flat import TIME
     y1, y2, C, R0, R1, R2, Ub = (S(n) for n in "y1 y2 C R0 R1 R2 Ub".split())
     eqs = [C * (D("y1") - D("y2")) + (y1 - sympy.sin(TIME)) / R0,
            -C * (D("y1") - D("y2")) + y2 * (1 / R1 + 1 / R2) - Ub / R2]

@@ -18,8 +18,8 @@ import casadi as ca
 import pytest
 import sympy
 
-from compiler.flat import TIME, FlatSystem
-from compiler.lower_casadi import SXLowering
+from compiler.model.flat import TIME, FlatSystem
+from compiler.lower.to_casadi import SXLowering
 from tests.structure.test_models import compiled
 
 

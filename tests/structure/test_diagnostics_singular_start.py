@@ -11,7 +11,7 @@ import sympy
 from compiler import api
 from compiler.cli import main
 from compiler.errors import Span
-from compiler.flat import Origin
+from compiler.model.flat import Origin
 from compiler.structure.diagnostics import parameter_singularity_error
 from compiler.structure.indexed import IndexedSystem
 

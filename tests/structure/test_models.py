@@ -356,10 +356,10 @@ def test_switched_state_sets_are_built_once_and_kept_for_later_runs():
     assert all(compilation.variant.siblings[k] is v for k, v in built.items())
 
 
-@pytest.mark.skipif(__import__("compiler.ccodegen", fromlist=["x"]).find_compiler() is None,
+@pytest.mark.skipif(__import__("compiler.lower.ccodegen", fromlist=["x"]).find_compiler() is None,
                     reason="no C compiler")
 def test_c_code_run_stays_in_c_code_in_every_state_set(tmp_path, monkeypatch):
-    from compiler.ccodegen import use_c_code
+    from compiler.lower.ccodegen import use_c_code
     monkeypatch.setenv("DYADC_CACHE", str(tmp_path / "cache"))
     vm = api.compile("StructureModels.CartesianPendulumHigh", lib_dirs=(str(MODELS),))
     native = api.compile("StructureModels.CartesianPendulumHigh", lib_dirs=(str(MODELS),))

@@ -7,8 +7,8 @@ import sympy
 
 from compiler import runtime
 from compiler.errors import DyadError
-from compiler.flat import ALGEBRAIC, STATE_CANDIDATE
-from compiler.lower_casadi import lower
+from compiler.model.flat import ALGEBRAIC, STATE_CANDIDATE
+from compiler.lower.to_casadi import lower
 from compiler.pipeline import compile_flat
 from compiler.structure.alias import eliminate_aliases
 from compiler.structure.reduce import StructureReport, reduce

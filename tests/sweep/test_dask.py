@@ -83,8 +83,8 @@ def test_workers_import_the_runtime_only_never_sympy_or_lark(decay, serial, clus
         from compiler.sweep import worker
         modules = worker_sys.modules
         return {"models": len(worker._MODELS),
-                "compiler": sorted(m for m in ("sympy", "lark", "compiler.pipeline", "compiler.flatten",
-                                               "compiler.structure", "compiler.lower_casadi") if m in modules),
+                "compiler": sorted(m for m in ("sympy", "lark", "compiler.pipeline", "compiler.model.flatten",
+                                               "compiler.structure", "compiler.lower.to_casadi") if m in modules),
                 "runtime": "compiler.runtime" in modules}
 
     report = client.run(loaded)

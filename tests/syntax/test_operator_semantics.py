@@ -1,4 +1,4 @@
-"""What the Dyad/Julia operators mean once flattened (compiler/expressions.py): the ternary is a
+"""What the Dyad/Julia operators mean once flattened (compiler/model/expressions.py): the ternary is a
 selection, `%` and rem() keep the dividend's sign, mod() the divisor's, `÷` and div() truncate,
 D(x) is der(x), min/max reduce arrays, long chains become one flat sum."""
 import math
@@ -7,7 +7,7 @@ import pytest
 import sympy
 
 from compiler.errors import DyadError
-from compiler.flatten import flatten_model
+from compiler.model.flatten import flatten_model
 
 
 def flatten(tmp_path, relations: str, declarations: str = ""):

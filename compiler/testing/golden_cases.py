@@ -190,7 +190,7 @@ def discover(lib_dirs: Sequence[str | os.PathLike] = (), *, include_shipped: boo
     """Every case of every component on the library path: the shipped library (unless
     `include_shipped` is false), the lib dirs and (if `use_env`) the DYADC_PATH folders. Parses
     only files whose text mentions "tests" (a cheap filter; the parse decides)."""
-    from compiler.library import Library
+    from compiler.model.library import Library
     from compiler.syntax.parser import parse_file
 
     library = Library(lib_dirs, use_env=use_env)

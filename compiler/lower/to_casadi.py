@@ -12,8 +12,8 @@ import casadi as ca
 import sympy
 
 from compiler.errors import DyadError, Span
-from compiler.events import EVENT_CLOCK, Events, find_events, lock_timed_conditions
-from compiler.flat import TIME
+from compiler.lower.events import EVENT_CLOCK, Events, find_events, lock_timed_conditions
+from compiler.model.flat import TIME
 from compiler.runtime import CompiledModel
 from compiler.structure.reduced import ReducedSystem
 
@@ -310,7 +310,7 @@ def lower(reduced: ReducedSystem, events: bool = True) -> CompiledModel:
 
 def _event_functions(found, walker: "SXLowering", x, z, p, t):
     """events(x, z, p, t) -> zero functions of the state events; time_events(p) -> (offsets,
-    periods) of the time events (see compiler/events.py). None where the model has none."""
+    periods) of the time events (see compiler/lower/events.py). None where the model has none."""
     events = labels = time_events = time_labels = None
     if found.state_events:
         zeros = [walker.lower(e.zero, f"the event condition {e.label}") for e in found.state_events]

@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from compiler.errors import DyadError, Note, Span
-from compiler.flat import INPUT, FlatSystem
+from compiler.model.flat import INPUT, FlatSystem
 from compiler.structure.graph.dulmage_mendelsohn import dulmage_mendelsohn
 
 MAX_NOTES = 12

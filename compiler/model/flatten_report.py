@@ -4,13 +4,13 @@ from __future__ import annotations
 
 from collections import Counter
 
-from compiler.flat import INPUT, FlatSystem
+from compiler.model.flat import INPUT, FlatSystem
 
 
 def summarize(flat: FlatSystem, verdict=None) -> str:
-    """`verdict` (compiler.model_check.Verdict), when given, replaces the bare count comparison:
+    """`verdict` (compiler.model.model_check.Verdict), when given, replaces the bare count comparison:
     it says whether the model runs on its own or is partial, and why."""
-    from compiler.balance import balance_summary, unbalanced_components
+    from compiler.model.balance import balance_summary, unbalanced_components
     kinds = Counter(v.kind for v in flat.variables)
     n_eqs, n_unknowns = balance_summary(flat)
     tunable = sum(1 for p in flat.parameters if p.tunable)

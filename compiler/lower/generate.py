@@ -13,7 +13,7 @@ GENERATED_MODELS = {
 
 
 def generate_all(out_dir: str = "generated") -> list[Path]:
-    from compiler.codegen import write_module
+    from compiler.lower.codegen import write_module
     from compiler.pipeline import compile_spec
     paths = []
     for module, spec in GENERATED_MODELS.items():

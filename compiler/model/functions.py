@@ -8,7 +8,6 @@ which knows the evaluation mode.
 """
 from __future__ import annotations
 
-import difflib
 import importlib.util
 import math
 from dataclasses import dataclass
@@ -17,6 +16,8 @@ from typing import Callable, Sequence
 
 import numpy as np
 import sympy
+
+from compiler.errors import closest
 
 Value = object  # sympy.Expr | np.ndarray (dtype=object) | str
 
@@ -230,10 +231,10 @@ def known_function_names(registry: FunctionRegistry = GLOBAL_REGISTRY) -> list[s
 def suggest_function(name: str, registry: FunctionRegistry = GLOBAL_REGISTRY) -> str | None:
     candidates = known_function_names(registry)
     short = {c.rsplit(".", 1)[-1]: c for c in candidates}
-    match = difflib.get_close_matches(name, candidates, n=1, cutoff=0.6)
+    match = closest(name, candidates)
     if match:
         return match[0]
-    match = difflib.get_close_matches(name.rsplit(".", 1)[-1], list(short), n=1, cutoff=0.6)
+    match = closest(name.rsplit(".", 1)[-1], short)
     return short[match[0]] if match else None
 
 

@@ -14,9 +14,9 @@ from typing import Any
 import sympy
 
 from compiler.errors import DyadError, Note, Span
-from compiler.expressions import EvalScope, apply_indices
-from compiler.flat import Equation, Origin
-from compiler.instantiate import Instance, VariableInstance, join_path
+from compiler.model.expressions import EvalScope, apply_indices
+from compiler.model.flat import Equation, Origin
+from compiler.model.instantiate import Instance, VariableInstance, join_path
 from compiler.syntax import ast
 
 INSIDE, OUTSIDE = "inside", "outside"
@@ -82,7 +82,7 @@ def resolve_connector(ref: ast.Ref, scope: EvalScope) -> Any:
             return variable
         child = current.children.get(part.name)
         if child is None:
-            from compiler.instantiate import suggest_name
+            from compiler.errors import suggest_name
             where = current.path or "the model"
             raise DyadError(f"unknown connector `{walked}` in {where}", ref.span,
                             hint=suggest_name(part.name, current.member_names()))

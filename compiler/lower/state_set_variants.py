@@ -17,8 +17,8 @@ from typing import Mapping
 import sympy
 
 from compiler import runtime
-from compiler.flat import FlatSystem
-from compiler.lower_casadi import lower
+from compiler.model.flat import FlatSystem
+from compiler.lower.to_casadi import lower
 from compiler.structure.dummy_derivatives import base_variable
 from compiler.structure.reduce import Analysis, StructureReport, reduce, select_states
 from compiler.structure.reduced import Assignment, ReducedSystem
@@ -156,6 +156,6 @@ class Switcher:
             cache[states] = built
         variant = cache[states]
         if self.c_code and variant.model.native_library is None:
-            from compiler.ccodegen import compile_c
+            from compiler.lower.ccodegen import compile_c
             variant.model = compile_c(variant.model)
         return variant.model

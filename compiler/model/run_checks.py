@@ -13,7 +13,7 @@ from contextlib import contextmanager
 from typing import Iterator, Mapping
 
 from compiler.errors import DyadError, Note, SimulationError
-from compiler.model_check import require_parameter_values
+from compiler.model.model_check import require_parameter_values
 from compiler.structure.diagnostics import parameter_singularity_error
 
 

@@ -9,16 +9,16 @@ from typing import Any, Sequence
 
 import sympy
 
-from compiler.balance import check_balance, component_balance  # noqa: F401  (public API)
+from compiler.model.balance import check_balance, component_balance  # noqa: F401  (public API)
 from compiler.errors import DyadError, Note, Span
-from compiler.expressions import EvalScope, MissingValue, Mode, evaluate, is_array, \
+from compiler.model.expressions import EvalScope, MissingValue, Mode, evaluate, is_array, \
     iteration_values, shape_of, structural_bool, structural_int, _num
-from compiler.flat import ALGEBRAIC, INPUT, OUTPUT, STATE_CANDIDATE, Equation, FlatSystem, \
+from compiler.model.flat import ALGEBRAIC, INPUT, OUTPUT, STATE_CANDIDATE, Equation, FlatSystem, \
     Origin, Parameter, Variable
-from compiler.flatten_connect import ConnectionGraph, connection_equations
-from compiler.flatten_report import format_flat, summarize  # noqa: F401  (public API)
-from compiler.instantiate import Instance, Model, ParameterInstance, VariableInstance, instantiate
-from compiler.library import Library, Resolved, load_model, resolve_model  # noqa: F401
+from compiler.model.flatten_connect import ConnectionGraph, connection_equations
+from compiler.model.flatten_report import format_flat, summarize  # noqa: F401  (public API)
+from compiler.model.instantiate import Instance, Model, ParameterInstance, VariableInstance, instantiate
+from compiler.model.library import Library, Resolved, load_model, resolve_model  # noqa: F401
 from compiler.syntax import ast
 
 
@@ -481,7 +481,7 @@ def check_library(root_dir: str) -> list[str]:
     """Check every non-partial component under `root_dir` as `dyadc check` does; one line per
     component: `ok: Name (E equations, U unknowns)`, `partial: Name: balanced as a component,
     N open connectors (...)` for a component that cannot run alone, or the rendered error."""
-    from compiler.model_check import assess
+    from compiler.model.model_check import assess
     from pathlib import Path
     library = Library([root_dir])
     lines: list[str] = []

@@ -1,6 +1,6 @@
 """`dyadc test`: golden-trajectory tests declared in component metadata.
 
-A case (see compiler.golden_cases) is simulated at its production tolerance and compared, signal
+A case (see compiler.testing.golden_cases) is simulated at its production tolerance and compared, signal
 by signal, with the golden CSV <golden_dir>/<QualifiedModelName>.<case>.csv inside a tube
 |y - y_golden| <= atol_s + rtol_s |y_golden|; the "final" values of the metadata are checked at the
 stop time within the same per-signal tube. The golden folder is the caller's (`dyadc test --golden
@@ -18,8 +18,8 @@ import time
 from typing import Sequence
 
 from compiler.errors import DyadError
-from compiler.golden_cases import TestCase, cases_from_metadata, discover, parse_span_text
-from compiler.golden_compare import (CaseReport, compare_finals, compare_signals, golden_path,
+from compiler.testing.golden_cases import TestCase, cases_from_metadata, discover, parse_span_text
+from compiler.testing.golden_compare import (CaseReport, compare_finals, compare_signals, golden_path,
                                      read_golden, signal_values, write_golden)
 
 GOLDEN_RTOL = 1e-10
@@ -113,7 +113,7 @@ def accept_case(compilation, case: TestCase, golden_dir: str | os.PathLike) -> C
 def _cases_by_model(lib_dirs: Sequence[str]) -> dict[str, list[TestCase]]:
     """The cases of the libraries the user named (-L, DYADC_PATH), or of the shipped library
     when none is named: a user's goldens live in their folder, the shipped ones in dyadc's."""
-    from compiler.library import Library
+    from compiler.model.library import Library
     user_libraries = Library(lib_dirs).user_roots
     by_model: dict[str, list[TestCase]] = {}
     for case in discover(lib_dirs, include_shipped=not user_libraries):
@@ -161,7 +161,7 @@ def run_tests(model_spec: str | None, lib_dirs: Sequence[str] = (), *,
 
 
 def _qualified_name(spec: str, lib_dirs: Sequence[str]) -> str:
-    from compiler.library import load_model
+    from compiler.model.library import load_model
     return load_model(spec, lib_dirs)[2]
 
 

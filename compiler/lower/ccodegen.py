@@ -14,7 +14,7 @@ that needs derivatives in t or p (sensitivities) must use the model's CasADi fun
 
 Flags: -O1 (excavator: -O0 builds in 0.3-0.6 s but runs 20-35 % slower; -O2 builds 10-40 % longer
 than -O1 and runs no faster). Libraries are cached by a hash of their C source, the compiler and
-its flags (compiler/c_cache.py: validated, rebuilt when damaged). Names of the model never reach
+its flags (compiler/lower/c_cache.py: validated, rebuilt when damaged). Names of the model never reach
 the C code: every identifier in it is a fixed one of ours (dyad_dae, x, z, p, t). Without a C
 compiler the model stays on CasADi's SX virtual machine, with a warning.
 """
@@ -30,7 +30,7 @@ from pathlib import Path
 
 import casadi as ca
 
-from compiler import c_cache
+from compiler.lower import c_cache
 from compiler.runtime import CompiledModel
 
 FLAGS = ["-O1", "-fPIC", "-shared"]

@@ -8,14 +8,14 @@ from __future__ import annotations
 import csv
 import math
 import os
-import tempfile
 from dataclasses import dataclass, field
 from typing import Mapping, Sequence
 
 import numpy as np
 
 from compiler.errors import DyadError
-from compiler.golden_cases import TestCase
+from compiler.runtime.writers import atomic_write
+from compiler.testing.golden_cases import TestCase
 
 GRID_RTOL = 1e-12           # time grids that agree this closely are the same grid
 
@@ -125,19 +125,12 @@ def write_golden(path: str, time: np.ndarray, columns: Mapping[str, np.ndarray])
     names = list(columns)
     data = np.vstack([np.asarray(time, dtype=float)] + [np.asarray(columns[n], dtype=float)
                                                          for n in names]).T
-    directory = os.path.dirname(os.path.abspath(path))
-    handle, temp = tempfile.mkstemp(prefix=".golden.", suffix=".tmp", dir=directory)
-    try:
-        with os.fdopen(handle, "w", encoding="utf-8", newline="") as out:
+    def write(temp: str) -> None:
+        with open(temp, "w", encoding="utf-8", newline="") as out:
             writer = csv.writer(out, lineterminator="\n")
             writer.writerow(["time"] + names)
             writer.writerows(["%.17g" % value for value in row] for row in data)
-        os.chmod(temp, 0o644)
-        os.replace(temp, path)
-    except BaseException:
-        if os.path.exists(temp):
-            os.unlink(temp)
-        raise
+    atomic_write(path, write)
 
 
 # ----------------------------------------------------------------------------- comparison

@@ -4,11 +4,10 @@ the relations still in AST form (bound to their evaluation scope).
 Done here: `extends` (several, recursive, with modifiers), modifier merging with precedence
 outer > extends > declaration > type, `final`, structural evaluation (array sizes, conditional
 declarations, component arrays), lazy parameter evaluation in dependency order with cycle
-detection. The relations are turned into equations by compiler/flatten.py.
+detection. The relations are turned into equations by compiler/model/flatten.py.
 """
 from __future__ import annotations
 
-import difflib
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -16,21 +15,16 @@ from typing import Any
 import numpy as np
 import sympy
 
-from compiler.errors import DyadError, Note, Span
-from compiler.expressions import CONDITION_TYPES, NOT_FOUND, EvalScope, Lexical, MissingValue, Mode, evaluate, \
+from compiler.errors import DyadError, Note, Span, suggest_name
+from compiler.model.expressions import CONDITION_TYPES, NOT_FOUND, EvalScope, Lexical, MissingValue, Mode, evaluate, \
     is_array, shape_of, structural_bool, structural_int, iteration_values, _num
-from compiler.flat import der_name
-from compiler.library import PRIMITIVE_TYPES, Library, Resolved
+from compiler.model.flat import der_name
+from compiler.model.library import PRIMITIVE_TYPES, Library, Resolved
 from compiler.syntax import ast
 
 VARIABLE_ATTRIBUTES = ("initial", "guess", "start", "units", "min", "max", "state_priority",
                        "fixed", "description")
 PARAMETER_ATTRIBUTES = ("units", "min", "max", "description")
-
-
-def suggest_name(name: str, candidates: list[str]) -> str | None:
-    match = difflib.get_close_matches(name, sorted(set(candidates)), n=1, cutoff=0.6)
-    return f"did you mean `{match[0]}`?" if match else None
 
 
 def join_path(parent: str, name: str) -> str:

@@ -4,7 +4,7 @@
 The checks, on the model closed as it stands (top-level inputs are unknowns nobody drives, the
 flows of top-level connectors are zero): balance, globally and per component instance; a complete
 matching of equations to unknowns; connector sets whose potentials float (no ground / fixed
-reference, compiler/floating.py).
+reference, compiler/model/floating.py).
 
 A model that fails them may still be a good component: a `Resistor` with open pins, a `Gain`
 with an open input, a base declared `partial`. Such a model is *partial*: `dyadc check` says so
@@ -16,11 +16,11 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 
-from compiler.balance import check_balance, incidence, span_from_text, unbalanced_components, \
+from compiler.model.balance import check_balance, incidence, span_from_text, unbalanced_components, \
     unknown_names
 from compiler.errors import DyadError, Note
-from compiler.flat import INPUT, FlatSystem
-from compiler.floating import FloatingCluster, floating_clusters
+from compiler.model.flat import INPUT, FlatSystem
+from compiler.model.floating import FloatingCluster, floating_clusters
 from compiler.structure.graph.dulmage_mendelsohn import dulmage_mendelsohn
 
 

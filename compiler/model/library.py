@@ -1,6 +1,6 @@
 """The library: finds definitions by qualified name, parsing only the files it needs.
 
-Roots, searched in order (compiler.library_path): the library shipped with dyadc, each `-L DIR`
+Roots, searched in order (compiler.model.library_path): the library shipped with dyadc, each `-L DIR`
 (`lib_dirs`), each folder of the environment variable DYADC_PATH; then, source-only, the folder of
 a model file given by path. Folders are namespaces: `root/A/B/Name.dyad` defines `A.B.Name`; when
 no file is named after the definition, the other `.dyad` files of the folder are searched (a cheap
@@ -10,17 +10,16 @@ executed only from roots on the search path, never from a source-only root.
 """
 from __future__ import annotations
 
-import difflib
 import os
 import re
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Sequence
 
-from compiler.errors import DyadError, Span
-from compiler.functions import ELEMENTARY, GLOBAL_REGISTRY, FunctionImpl, FunctionRegistry, \
+from compiler.errors import DyadError, Span, suggest_name
+from compiler.model.functions import ELEMENTARY, GLOBAL_REGISTRY, FunctionImpl, FunctionRegistry, \
     suggest_function
-from compiler.library_path import LIBRARY_PATH_VARIABLE, Root, describe, search_path
+from compiler.model.library_path import LIBRARY_PATH_VARIABLE, Root, describe, search_path
 from compiler.syntax import ast
 
 STANDARD_PACKAGE = "Dyad"
@@ -66,7 +65,7 @@ class Library:
         self._texts: dict[Path, str] = {}
         self._found: dict[str, Resolved | None] = {}
         self._lookup_cache: dict[tuple[str, int, str], Resolved | None] = {}
-        self.type_cache: dict[tuple, object] = {}     # used by compiler.instantiate
+        self.type_cache: dict[tuple, object] = {}     # used by compiler.model.instantiate
 
     # -------------------------------------------------------------------------------- files
 
@@ -200,8 +199,7 @@ class Library:
                 for path in std.glob("*.dyad"):
                     known.update(re.findall(rf"{_DEFINITION_KEYWORDS}\s+(\w+)",
                                             self._text(path.resolve())))
-        match = difflib.get_close_matches(name.rsplit(".", 1)[-1], sorted(known), n=1, cutoff=0.6)
-        return f"did you mean `{match[0]}`?" if match else None
+        return suggest_name(name.rsplit(".", 1)[-1], known)
 
     # ---------------------------------------------------------------------------- functions
 

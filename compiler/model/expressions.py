@@ -24,12 +24,12 @@ from sympy.core.relational import Relational
 from sympy.logic.boolalg import BooleanAtom, BooleanFunction
 
 from compiler.errors import DyadError, Span
-from compiler.flat import TIME, der_name
-from compiler.functions import PI, FunctionCallError, as_array, is_array
+from compiler.model.flat import TIME, der_name
+from compiler.model.functions import PI, FunctionCallError, as_array, is_array
 from compiler.syntax import ast
 
 if TYPE_CHECKING:
-    from compiler.library import Library
+    from compiler.model.library import Library
 
 
 # sympy.Symbol is itself a sympy Boolean, so conditions are recognised by these classes instead.
@@ -105,7 +105,7 @@ class EvalScope:
             return PI
         if name == "Inf":
             return sympy.oo
-        from compiler.instantiate import suggest_name
+        from compiler.errors import suggest_name
         hint = suggest_name(name, list(self.bindings) + self.node.member_names())
         where = self.node.path or "the model"
         raise DyadError(f"unknown name `{name}` in {where}", span, hint=hint)
@@ -254,7 +254,7 @@ def resolve_ref(ref: ast.Ref, scope: EvalScope, mode: Mode) -> Any:
             raise DyadError(f"`{walked}` is {kind}; cannot access `.{part.name}`", ref.span)
         found = current.member(part.name, mode, ref.span)
         if found is NOT_FOUND or found is None:
-            from compiler.instantiate import suggest_name
+            from compiler.errors import suggest_name
             raise DyadError(f"`{walked}` has no member `{part.name}`", ref.span,
                             hint=suggest_name(part.name, current.member_names()))
         current = apply_indices(found, part.indices, f"{walked}.{part.name}", scope, ref.span)

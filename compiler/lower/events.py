@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import sympy
 from sympy.core.relational import Relational
 
-from compiler.flat import TIME
+from compiler.model.flat import TIME
 from compiler.structure.reduced import ReducedSystem
 
 

@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import sympy
 
-from compiler.flat import FlatSystem
+from compiler.model.flat import FlatSystem
 
 # The reference component users know for each connector type of the shipped library.
 REFERENCES = {

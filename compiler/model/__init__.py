@@ -1,0 +1,1 @@
+"""Model building: library path, instantiation, flattening, balance checks."""

@@ -1,0 +1,1 @@
+"""Golden-trajectory tests: cases from component metadata, golden files, comparison."""

@@ -1,0 +1,56 @@
+"""The package layout shows the pipeline (docs/architecture.md): one folder per stage, a few
+modules on top, and no two modules that import each other."""
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import compiler
+
+PACKAGE = Path(compiler.__file__).resolve().parent
+STAGES = {"syntax", "model", "structure", "lower", "runtime", "testing", "render", "sweep", "components"}
+ON_TOP = {"__init__", "__main__", "api", "cli", "cli_options", "cli_outputs", "errors", "inspect_report",
+          "pipeline", "simulate"}
+
+
+def module_name(path: Path) -> str:
+    parts = list(path.relative_to(PACKAGE.parent).with_suffix("").parts)
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def modules() -> dict[str, Path]:
+    return {module_name(p): p for p in PACKAGE.rglob("*.py")
+            if "components" not in p.relative_to(PACKAGE).parts and "__pycache__" not in p.parts}
+
+
+def imported(name: str, path: Path, known: set[str]) -> set[str]:
+    package = name if path.name == "__init__.py" else name.rsplit(".", 1)[0]
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            targets = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                parts = package.split(".")[:len(package.split(".")) - node.level + 1]
+                base = ".".join(parts + ([node.module] if node.module else []))
+            # `from package import module` imports the module, not the package's __init__
+            targets = [f"{base}.{a.name}" if f"{base}.{a.name}" in known else base for a in node.names]
+        else:
+            continue
+        found.update(t for t in targets if t in known and t != name)
+    return found
+
+
+def test_every_module_lives_in_its_stage_folder_or_on_top():
+    loose = sorted(p.stem for p in PACKAGE.glob("*.py") if p.stem not in ON_TOP)
+    assert loose == []
+    folders = sorted(p.name for p in PACKAGE.iterdir() if p.is_dir() and p.name != "__pycache__")
+    assert set(folders) <= STAGES
+
+
+def test_no_two_modules_import_each_other():
+    found = modules()
+    graph = {name: imported(name, path, set(found)) for name, path in found.items()}
+    mutual = sorted((a, b) for a in graph for b in graph[a] if a < b and a in graph.get(b, ()))
+    assert mutual == []
