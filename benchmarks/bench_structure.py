@@ -37,7 +37,6 @@ import sympy  # noqa: E402
 
 from compiler.model.flatten import flatten_model  # noqa: E402
 from compiler.lower.to_casadi import lower  # noqa: E402
-from compiler.pipeline import start_point  # noqa: E402
 from compiler.structure import reduce as structure  # noqa: E402
 from compiler.structure.alias import eliminate_aliases  # noqa: E402
 from compiler.structure.derivative_rank import remove_derivative_dependencies  # noqa: E402
@@ -73,7 +72,7 @@ def pass_times(flat) -> dict[str, float]:
     analysis = structure.Analysis(alias, reduced_system, index_report, structure._priorities(flat, alias), rank_report)
 
     report = structure.StructureReport()
-    reduced, total = timed(structure.reduce, flat, point=start_point(flat), report=report, analysis=analysis)
+    reduced, total = timed(structure.reduce, flat, point=flat.initial_values(), report=report, analysis=analysis)
     times["dummy derivatives"] = report.timings["dummy derivatives"]
     times["causalize"] = report.timings["causalize"]
     # reduce() times its own passes; what it does not time is the assembly

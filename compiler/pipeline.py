@@ -36,17 +36,6 @@ def flatten_spec(spec: str, lib_dirs: Sequence[str] = ()) -> tuple[FlatSystem, d
     return flat, {"parse+flatten": time.perf_counter() - began}
 
 
-def start_point(flat: FlatSystem) -> dict[str, float]:
-    """What is known before any solve: start values, guesses, parameter values."""
-    point = {}
-    for v in flat.variables:
-        value = v.start if v.start is not None else v.guess
-        if value is not None:
-            point[v.name] = float(value)
-    point.update({k: float(v) for k, v in flat.guesses.items()})
-    return point
-
-
 def compile_flat(flat: FlatSystem, timings: dict[str, float] | None = None) -> Compilation:
     timings = dict(timings or {})
     report = StructureReport()
@@ -54,7 +43,7 @@ def compile_flat(flat: FlatSystem, timings: dict[str, float] | None = None) -> C
     require_standalone(flat)         # the checks `dyadc check` runs: both say the same
     analysis = analyse(flat)
     report.timings["alias+rank+index"] = time.perf_counter() - began
-    reduced = reduce(flat, point=start_point(flat), report=report, analysis=analysis)
+    reduced = reduce(flat, point=flat.initial_values(), report=report, analysis=analysis)
     timings["structure"] = time.perf_counter() - began
     began = time.perf_counter()
     variant = None

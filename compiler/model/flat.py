@@ -104,3 +104,16 @@ class FlatSystem:
 
     def parameter_values(self) -> dict[str, float]:
         return {p.name: p.value for p in self.parameters if p.value is not None}
+
+    def initial_values(self) -> dict[str, float]:
+        """The one start-value rule: what is known of each unknown before any solve, for the
+        initialization's first iterate and for the state choice at the start. An explicit
+        `guess x = v` relation wins, then the variable's guess, then its start value."""
+        values = {}
+        for v in self.variables:
+            for value in (v.guess, v.start):
+                if value is not None:
+                    values[v.name] = float(value)
+                    break
+        values.update({k: float(v) for k, v in self.guesses.items()})
+        return values

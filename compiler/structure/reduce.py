@@ -191,7 +191,7 @@ def _assemble(flat, alias, system, selection, causal: Causalization, report) -> 
     report.counts.update({"states": len(states), "algebraic (IDAS)": len(algebraics),
                           "assignments": len(kept), "observables": len(observables)})
 
-    guesses = _guesses(flat)
+    guesses = flat.initial_values()
     initial = build_initial_problem(flat, alias, states, algebraics, alg,
                                     [system.origins[e] for e in causal.residual_equations],
                                     kept, observables, guesses)
@@ -212,14 +212,3 @@ def _nominals(flat: FlatSystem, names: list[str]) -> dict[str, float]:
     (a pressure of 1e7 Pa and an angle of 1 rad cannot share one absolute tolerance)."""
     starts = {v.name: v.start for v in flat.variables if v.start is not None}
     return {n: max(1.0, abs(float(starts[n]))) for n in names if n in starts and abs(float(starts[n])) > 1.0}
-
-
-def _guesses(flat: FlatSystem) -> dict[str, float]:
-    guesses = {}
-    for v in flat.variables:
-        for value in (v.guess, v.start):
-            if value is not None:
-                guesses[v.name] = float(value)
-                break
-    guesses.update({k: float(v) for k, v in flat.guesses.items()})
-    return guesses
