@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: install run test bench generate clean
+.PHONY: install run test bench generate clean compat
 
 install: $(STAMP)
 
@@ -25,6 +25,12 @@ bench: install
 
 generate: install
 	$(BIN)/dyadc generate
+
+# Compatibility with published Dyad code (issue 17): `make compat CORPUS=DIR`, DIR a folder of Dyad
+# repositories kept outside this project; rewrites docs/compatibility.md.
+compat: install
+	@test -n "$(CORPUS)" || { echo "usage: make compat CORPUS=DIR (a folder of Dyad repositories)"; exit 2; }
+	$(BIN)/python benchmarks/compat.py $(CORPUS) --output docs/compatibility.md
 
 clean:
 	rm -rf $(VENV) out build dist *.egg-info .pytest_cache .hypothesis
