@@ -34,7 +34,8 @@ def simulate_compiled(compilation: Compilation, stop: float, *, start: float = 0
     switcher = None
     if compilation.dynamic:
         from compiler.lower.state_set_variants import Switcher
-        switcher = Switcher(compilation.flat, compilation.analysis, compilation.variant)
+        switcher = Switcher(compilation.flat, compilation.analysis, compilation.variant,
+                            compilation.model)
     from compiler.model.run_checks import checked_run       # missing parameter values, singular start
     with checked_run(compilation, params, start), runtime_errors(compilation.reduced):
         result = runtime.simulate(compilation.model, options=options, switcher=switcher)

@@ -130,7 +130,8 @@ def _fetch_or_build(source: str, compiler: str, directory: Path) -> tuple[Path, 
 
 
 def compile_c(model: CompiledModel, directory: Path | None = None) -> CompiledModel:
-    """Attach a compiled DAE library to `model` (same object returned); fall back to the VM."""
+    """A copy of `model` that evaluates its DAE through a compiled C library (the input is left as
+    it was); a copy on the VM, with a warning, where C is unavailable."""
     compiler = find_compiler()
     if compiler is None:
         return _fallback(model, "no C compiler (gcc, cc or clang) found")
@@ -139,7 +140,7 @@ def compile_c(model: CompiledModel, directory: Path | None = None) -> CompiledMo
         source = c_source(model)
         library, built_now, key = _fetch_or_build(source, compiler, directory)
         try:
-            _load(model, library)
+            native = _load(model, library)
         except (RuntimeError, ValueError):
             if built_now:
                 raise
@@ -147,24 +148,22 @@ def compile_c(model: CompiledModel, directory: Path | None = None) -> CompiledMo
             # different machine sharing the folder): forget the entry and build it once more.
             c_cache.discard(directory, key)
             library = _fetch_or_build(source, compiler, directory)[0]
-            _load(model, library)
+            native = _load(model, library)
     except (RuntimeError, OSError, subprocess.SubprocessError, ValueError) as err:
-        model.use_native_library(None)
         return _fallback(model, str(err))
-    model.metadata["codegen"] = "c"
-    return model
+    return native.replace(metadata={**model.metadata, "codegen": "c"})
 
 
-def _load(model: CompiledModel, library: Path) -> None:
-    model.use_native_library(library)
-    model.native_dae()                  # load now: a broken library is a fallback, not a crash
+def _load(model: CompiledModel, library: Path) -> CompiledModel:
+    native = model.with_native_library(library)
+    native.native_dae()                 # load now: a broken library is a fallback, not a crash
+    return native
 
 
 def _fallback(model: CompiledModel, why: str) -> CompiledModel:
     warnings.warn(f"C code generation unavailable ({why}); using the CasADi virtual machine",
                   CodegenWarning, stacklevel=3)
-    model.metadata["codegen"] = "vm"
-    return model
+    return model.replace(native_library=None, metadata={**model.metadata, "codegen": "vm"})
 
 
 def use_c_code(model: CompiledModel) -> CompiledModel:

@@ -62,8 +62,8 @@ def model():
         _model = _runtime.CompiledModel.from_dict(_json.loads(_MODEL_JSON))
         if _NATIVE_LIBRARY is not None:
             import os as _os
-            _model.use_native_library(_os.path.join(_os.path.dirname(_os.path.abspath(__file__)),
-                                                    _NATIVE_LIBRARY))
+            _model = _model.with_native_library(
+                _os.path.join(_os.path.dirname(_os.path.abspath(__file__)), _NATIVE_LIBRARY))
     return _model
 
 

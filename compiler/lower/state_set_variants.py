@@ -139,11 +139,16 @@ class Switcher:
     redo the dummy-derivative choice at that point and hand back the variant it selects (each built
     once, then kept). A run that began in C code stays in C code in every state set."""
 
-    def __init__(self, flat: FlatSystem, analysis: Analysis, first: Variant):
+    def __init__(self, flat: FlatSystem, analysis: Analysis, first: Variant,
+                 model: runtime.CompiledModel | None = None):
+        """`model`: the first state set's model as the run has it (compiled to C, say)."""
         self.flat, self.analysis, self.first = flat, analysis, first
         self.public_names = list(first.public_names)
-        first.siblings.setdefault(first.states, first)
-        self.c_code = first.model.native_library is not None
+        model = first.model if model is None else model
+        self.c_code = model.native_library is not None
+        known = first.siblings.get(first.states)
+        if known is None or (self.c_code and known.model.native_library is None):
+            first.siblings[first.states] = dataclasses.replace(first, model=model)
 
     def switch(self, model: runtime.CompiledModel, values: Mapping[str, float], t: float) -> runtime.CompiledModel:
         point = {k: float(v) for k, v in values.items() if not k.startswith("__pivot")}

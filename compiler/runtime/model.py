@@ -97,11 +97,6 @@ class CompiledModel:
         generation, holding `dyad_dae(t, x, z, p, u) -> (ode, alg, quad, zero)` and its Jacobian."""
         return self.replace(native_library=None if path is None else os.fspath(path))
 
-    def use_native_library(self, path: str | os.PathLike | None) -> None:
-        """In place; kept only until ccodegen returns a new model through with_native_library."""
-        self.native_library = None if path is None else os.fspath(path)
-        self._derived.pop("native", None)
-
     def native_dae(self) -> ca.Function | None:
         if self.native_library is None:
             return None
