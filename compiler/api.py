@@ -37,7 +37,7 @@ def simulate_compiled(compilation: Compilation, stop: float, *, start: float = 0
         switcher = Switcher(compilation.flat, compilation.analysis, compilation.variant,
                             compilation.model)
     from compiler.model.run_checks import checked_run       # missing parameter values, singular start
-    with checked_run(compilation, params, start), runtime_errors(compilation.reduced):
+    with checked_run(compilation, params, start), runtime_errors(compilation.reduced, compilation.flat):
         result = runtime.simulate(compilation.model, options=options, switcher=switcher)
     result.stats["compile_time"] = sum(compilation.timings.values())
     result.stats["compile_timings"] = dict(compilation.timings)

@@ -6,7 +6,7 @@ import os
 import sys
 from pathlib import Path
 
-from compiler.errors import DyadError
+from compiler.errors import DyadError, Note, SimulationError
 
 DESCRIPTION = """\
 dyadc compiles acausal models written in a Dyad-like language into CasADi functions and
@@ -92,6 +92,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", metavar="FILE.png", help="plot the result, one subplot per unit "
                                                       "(.png, .pdf, .svg, ...)")
     p.add_argument("--codegen", choices=["c"], help="compile the model to C with gcc")
+    p.add_argument("--keep-partial", action="store_true",
+                   help="when the run fails, write what it reached to FILE.partial.EXT (with --output)")
     p.add_argument("--max-output-values", type=int, metavar="N",
                    help="refuse runs storing more than N output values (times x signals; default "
                         "$DYADC_MAX_OUTPUT_VALUES or 10000000)")
@@ -246,9 +248,16 @@ def _cmd_simulate(args) -> int:
         began = time.perf_counter()
         compilation.model = use_c_code(compilation.model)
         compilation.timings["codegen c"] = time.perf_counter() - began
-    result = simulate_compiled(compilation, args.stop, start=args.start, rtol=args.rtol, atol=args.atol,
-                               points=args.points, saveat=None if saveat is None else saveat.grid(),
-                               params=params)
+    try:
+        result = simulate_compiled(compilation, args.stop, start=args.start, rtol=args.rtol,
+                                   atol=args.atol, points=args.points,
+                                   saveat=None if saveat is None else saveat.grid(), params=params)
+    except SimulationError as failure:
+        if args.keep_partial and args.output and failure.partial is not None:
+            partial = _partial_path(args.output)
+            failure.partial.write(partial, args.vars or None)
+            failure.notes.append(Note(f"the run up to t = {failure.partial.time[-1]:.10g} is in {partial}"))
+        raise
     names = args.vars or None
     if names:
         for n in names:
@@ -287,6 +296,12 @@ def _cmd_generate(args) -> int:
 
 
 # ------------------------------------------------------------------------------------------ helpers
+
+def _partial_path(output: str) -> str:
+    """out/run.csv -> out/run.partial.csv: a failed run's file is never taken for a complete one."""
+    stem, extension = os.path.splitext(output)
+    return f"{stem}.partial{extension}"
+
 
 def _print_final(result, names) -> None:
     names = names or result.names

@@ -90,6 +90,7 @@ class SimulationError(DyadError):
         super().__init__(message, None, hint)
         self.time_reached = time_reached
         self.reason = reason
+        self.partial = None          # runtime.Result up to the failure, when there is one
 
 
 def _render(kind: str, message: str, span: Span | None) -> str:

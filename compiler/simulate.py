@@ -39,8 +39,10 @@ def simulate_reduced(reduced: ReducedSystem, stop: float, *, codegen: str | None
 
 
 @contextmanager
-def runtime_errors(reduced: ReducedSystem | None = None) -> Iterator[None]:
-    """Translate runtime exceptions (which know nothing of sources) into DyadErrors with spans."""
+def runtime_errors(reduced: ReducedSystem | None = None, flat=None) -> Iterator[None]:
+    """Translate runtime exceptions (which know nothing of sources) into DyadErrors with spans;
+    with `flat`, a failure that names a variable (a bound, a runaway value) points at its
+    declaration."""
     try:
         yield
     except runtime.InitializationFailed as err:
@@ -60,11 +62,25 @@ def runtime_errors(reduced: ReducedSystem | None = None) -> Iterator[None]:
         error.notes = notes
         raise error from None
     except runtime.SimulationFailed as err:
-        raise SimulationError(str(err), err.time_reached, err.reason,
-                              hint="check the model near that time: an algebraic equation may have lost its "
-                                   "solution or a variable left its valid range; a stiff run "
-                                   "may need a larger max_steps") \
-            from None
+        error = SimulationError(str(err), err.time_reached, err.reason,
+                                hint="check the model near that time: an algebraic equation may have lost its "
+                                     "solution or a variable left its valid range; a stiff run "
+                                     "may need a larger max_steps")
+        error.partial = err.partial
+        span = _declaration(flat, err.variable)
+        if span is not None:
+            error.notes = [Note(f"`{err.variable}` is declared here", span)]
+        raise error from None
     except runtime.ModelInputError as err:
         raise DyadError(str(err)) from None
 
+
+
+def _declaration(flat, name: str | None):
+    """The source span of the declaration of variable `name` in `flat`, when known."""
+    if flat is None or name is None:
+        return None
+    for variable in flat.variables:
+        if variable.name == name:
+            return getattr(variable.origin, "span", None)
+    return None

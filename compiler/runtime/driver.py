@@ -136,6 +136,9 @@ def _run_watched(run, model, p, point, progress, stats, began) -> Result:
     except KeyboardInterrupt:
         raise SimulationInterrupted(f"interrupted at t = {run.t:.10g}", float(run.t),
                                     "interrupted") from None
+    except SimulationFailed as failure:
+        failure.partial = _partial_result(run, model)
+        raise
     except Exception:
         if interrupts.pending:              # CasADi's wrapper turns Ctrl-C into other errors
             raise SimulationInterrupted(f"interrupted at t = {run.t:.10g}", float(run.t),
@@ -149,6 +152,22 @@ def _run_watched(run, model, p, point, progress, stats, began) -> Result:
     units = model.metadata.get("units") or {}
     return Result(run.grid, run.public, run.values, stats, model.name,
                   units={n: units[n] for n in run.public if n in units},
+                  events=run.events, switches=run.switches)
+
+
+def _partial_result(run: _Run, model: CompiledModel) -> Result | None:
+    """The output times the run had reached when it failed, as a Result (None if not even one)."""
+    try:
+        run.finish()
+    except Exception:                       # the failure itself may have left bad points behind
+        return None
+    filled = ~np.isnan(run.values).all(axis=0) if run.values.size else np.zeros(0, dtype=bool)
+    n = int(np.argmin(filled)) if not filled.all() else len(filled)
+    if n == 0:
+        return None
+    units = model.metadata.get("units") or {}
+    return Result(run.grid[:n], run.public, run.values[:, :n], dict(run.counters), model.name,
+                  units={name: units[name] for name in run.public if name in units},
                   events=run.events, switches=run.switches)
 
 

@@ -16,6 +16,8 @@ class SimulationFailed(Exception):
         self.time_reached = time_reached
         self.reason = reason
         self.variable = variable
+        self.partial = None          # the Result up to the last output time reached, where the
+                                     # driver had one (written only when the user asks for it)
 
 
 class InitializationFailed(SimulationFailed):
