@@ -4,7 +4,7 @@ VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
 
-.PHONY: install run test bench generate clean compat
+.PHONY: install run test fuzz bench generate clean compat
 
 install: $(STAMP)
 
@@ -19,6 +19,11 @@ run: install
 
 test: install
 	$(BIN)/python -m pytest -n 2 tests
+
+# The fuzz tests of `make test` with far more examples each (docs/security.md, "Fuzzing").
+FUZZ_EXAMPLES ?= 2000
+fuzz: install
+	DYADC_FUZZ_EXAMPLES=$(FUZZ_EXAMPLES) $(BIN)/python -m pytest -n 2 -p no:cacheprovider tests/fuzz
 
 bench: install
 	$(BIN)/python benchmarks/run_all.py
