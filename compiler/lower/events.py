@@ -14,6 +14,7 @@ event the restart sees the other branch.
 from __future__ import annotations
 
 import dataclasses
+import itertools
 from dataclasses import dataclass
 
 import sympy
@@ -111,7 +112,10 @@ def find_events(reduced: ReducedSystem) -> Events:
                     time_events.setdefault((event.offset, event.period), event)
                 if solved and not node.has(*_assignment_symbols(reduced)):
                     timed[node] = None
-                continue
+                if solved:
+                    continue
+                # a time-only condition whose times have no closed form here (Julia's rem with
+                # its sign, sin(t) > 0.5): watched and located like a state event
             if zero not in state_events and -zero not in state_events:
                 state_events[zero] = StateEvent(zero, label)
     return Events(tuple(time_events.values()), tuple(state_events.values()), tuple(timed))
@@ -171,6 +175,21 @@ def _solve_for_time(zero: sympy.Expr, label: str) -> list[TimeEvent]:
     on mod(a, m) gives its crossings and the jumps of the mod. Anything else is left to IDAS."""
     if TIME not in zero.free_symbols:
         return []
+    kinks = [a for a in zero.atoms(sympy.Min, sympy.Max, sympy.Abs) if a.has(TIME)]
+    if kinks:
+        # min(a, b) is a or b, |a| is a or -a: the crossings are among those of every branch
+        # (a few extra segment ends cost little; a missed one would step over the kink)
+        branches = [list(k.args) if not isinstance(k, sympy.Abs) else [k.args[0], -k.args[0]]
+                    for k in kinks]
+        if len(kinks) > 4:
+            return []
+        events = []
+        for choice in itertools.product(*branches):
+            found = _solve_for_time(zero.xreplace(dict(zip(kinks, choice))), label)
+            if not found and any(TIME in c.free_symbols for c in choice):
+                return []
+            events += found
+        return events
     zero = zero.replace(sympy.floor, lambda a: a - sympy.Mod(a, 1)).replace(
         sympy.ceiling, lambda a: a + sympy.Mod(-a, 1))
     if zero.atoms(sympy.Mod):

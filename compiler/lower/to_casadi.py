@@ -51,6 +51,8 @@ _VARIADIC = {
     sympy.Min: _fold(ca.fmin), sympy.Max: _fold(ca.fmax),
     sympy.And: _fold(ca.logic_and), sympy.Or: _fold(ca.logic_or),
     sympy.atan2: ca.atan2, sympy.Mod: ca.fmod,
+    # sympy writes a condition chosen by a condition as ITE (a locked condition inside a Piecewise)
+    sympy.ITE: lambda c, a, b: ca.if_else(c, a, b),
 }
 
 

@@ -183,6 +183,10 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
     while t < options.stop:
         run.t = t
         end = ends[end_index]
+        if end - t <= 1e-12 * max(1.0, abs(end)):      # a located crossing at a segment's end
+            t = end
+            end_index += 1
+            continue
         p = with_clock(model, p, t, end)
         integrator, watch, public_index = run.integrator(model)
         outputs, m = _segment_times(grid, k, end, inclusive=True)
