@@ -109,3 +109,16 @@ def test_a_bound_crossed_between_output_points_stops_the_run_where_it_is_crossed
     assert failure.value.variable == "x"
     assert failure.value.time_reached == pytest.approx(1.0, abs=1e-9)    # bound slack: atol
     assert "outside its declared min = 0" in str(failure.value)
+
+
+def test_a_condition_on_julias_rem_of_time_is_located_not_stepped_over(tmp_path):
+    # `%` is Julia's rem (with the sign of its argument): no closed form for its times here, so the
+    # driver watches the condition and locates each crossing
+    spec = model_file(tmp_path, "HalfOn", """
+  variable x::Real
+relations
+  initial x = 0
+  der(x) = if time % 2.0 < 1.0 then 1.0 else 0.0""")
+    result = api.simulate(spec, 5.0, rtol=1e-8, atol=1e-10, points=6)
+    np.testing.assert_allclose(result["x"], [0, 1, 1, 2, 2, 3], atol=1e-7)
+    assert [round(e["time"], 6) for e in result.events if "<" in e["event"]] == [1.0, 2.0, 3.0, 4.0]
