@@ -118,28 +118,31 @@ def run_in_subprocess(argv: list[str], workdir: Path, seconds: float = TIME_LIMI
 
 def problems(outcome: Outcome, seconds: float = TIME_LIMIT_S) -> list[str]:
     """What is wrong with an outcome; empty when it is a success or a clear error."""
-    found = []
     if isinstance(outcome.escaped, (ExampleTimeout, subprocess.TimeoutExpired)):
         return [f"no outcome within {seconds:g} s"]
     if outcome.escaped is not None:
         return [f"{type(outcome.escaped).__name__} escaped main(): {outcome.escaped}"]
+    found = []
     if "internal error:" in outcome.stderr:
         found.append("internal error")
     if "Traceback (most recent call last)" in outcome.stderr:
         found.append("traceback on stderr")
     if outcome.status is not None and outcome.status < 0:
         found.append(f"killed by signal {-outcome.status}")
-    elif outcome.status == 0 or found:
-        pass
-    elif outcome.status == 2 and _USAGE.search(outcome.stderr):
-        pass                                 # argparse's usage error: names the option, exit 2
-    elif outcome.status != 1:
-        found.append(f"exit status {outcome.status}")
-    elif not (_LOCATED.search(outcome.stderr) or _PLAIN.search(outcome.stderr)):
-        found.append("exit 1 without an `error:` message")
+    if not found and not _clear_exit(outcome):
+        found.append(f"exit {outcome.status} without a clear message")
     if outcome.seconds > seconds:
         found.append(f"took {outcome.seconds:.1f} s (limit {seconds:g} s)")
     return found
+
+
+def _clear_exit(outcome: Outcome) -> bool:
+    """Success; an `error:` (located or not) with exit 1; argparse's usage error with exit 2."""
+    if outcome.status == 0:
+        return True
+    if outcome.status == 1:
+        return bool(_LOCATED.search(outcome.stderr) or _PLAIN.search(outcome.stderr))
+    return outcome.status == 2 and bool(_USAGE.search(outcome.stderr))
 
 
 def is_located(outcome: Outcome) -> bool:

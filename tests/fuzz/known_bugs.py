@@ -15,6 +15,10 @@ import re
 _POWER_TOWER = re.compile(r"(\d[\w.]*\s*\^\s*){2,}\d")
 # An integer of 7+ digits next to `[`, `]` or `:`: an array size, range or index of millions.
 _HUGE_SIZE = re.compile(r"[\[:]\s*\d{7,}|\d{7,}\s*[\]:]")
+# A size written with an exponent, `Real[1e308]`.
+_EXPONENT_SIZE = re.compile(r"\[\s*[\d.]+[eE]")
+# A component declared, extended or instantiated under a name too long for a file name.
+_LONG_COMPONENT = re.compile(r"\b(?:component|extends)\s+[\w.]*\w{256}|\w{256}\s*\(")
 
 
 def _option(argv: list[str], name: str, default: str | None = None) -> str | None:
@@ -51,7 +55,7 @@ def known_bug(argv: list[str], text: str = "") -> str | None:
     """The name of the known bug this input triggers, or None."""
     if any("\x00" in arg for arg in argv):
         return "nul-in-argument"
-    if _name_too_long(argv):
+    if _name_too_long(argv) or _LONG_COMPONENT.search(text):
         return "name-too-long"
     if argv and argv[0] == "simulate" and _tiny_atol(argv):
         return "tiny-atol-hangs"
@@ -59,6 +63,8 @@ def known_bug(argv: list[str], text: str = "") -> str | None:
         return "tiny-span-index-error"
     if _POWER_TOWER.search(text):
         return "power-tower-hangs"
+    if _EXPONENT_SIZE.search(text):
+        return "exponent-size"
     if _HUGE_SIZE.search(text):
         return "huge-size"
     return None

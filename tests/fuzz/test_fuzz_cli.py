@@ -12,7 +12,7 @@ from hypothesis import assume, given
 from hypothesis import strategies as st
 
 from tests.fuzz.examples import example_dir, fuzz_settings, write_seed
-from tests.fuzz.harness import is_located, problems, run_in_process
+from tests.fuzz.harness import ExampleTimeout, Outcome, is_located, problems, run_in_process
 from tests.fuzz.known_bugs import known_bug
 from tests.fuzz.mutations import ARGV_OPERATIONS, SOURCE_OPERATIONS, mutate_argv, mutate_source
 from tests.fuzz.seeds import EXTREME_NUMBERS, HOSTILE_NAMES, NESTING_DEPTHS, NESTING_KINDS, SEEDS
@@ -44,6 +44,22 @@ def assert_clear(outcome):
     assert not found, f"{'; '.join(found)}\n{outcome.describe()}"
 
 
+def test_the_oracle_tells_clear_errors_from_internal_ones():
+    def judged(status, stderr, seconds=0.1, escaped=None):
+        return problems(Outcome(["check", "M.dyad"], status, "", stderr, seconds, escaped))
+    assert judged(0, "") == []
+    assert judged(1, "M.dyad:3:7: error: unknown variable `y`\n    der(x) = y\n") == []
+    assert judged(1, "error: --rtol must be positive, got 0\n") == []
+    assert judged(2, "usage: dyadc check ...\ndyadc check: error: the following arguments are required\n") == []
+    assert judged(2, "internal error: IndexError: list index out of range\n") == ["internal error"]
+    assert "traceback on stderr" in judged(1, "Traceback (most recent call last):\nerror: x\n")
+    assert judged(1, "it failed\n") == ["exit 1 without a clear message"]
+    assert judged(-9, "") == ["killed by signal 9"]
+    assert judged(None, "", escaped=RecursionError("deep")) == ["RecursionError escaped main(): deep"]
+    assert judged(None, "", 60.0, ExampleTimeout("60 s")) == ["no outcome within 60 s"]
+    assert judged(0, "", seconds=61.0) == ["took 61.0 s (limit 60 s)"]
+
+
 @pytest.mark.parametrize("seed", SEEDS, ids=lambda s: s.name)
 def test_every_seed_simulates(seed, fuzz_base):
     work = example_dir(fuzz_base)
@@ -51,7 +67,7 @@ def test_every_seed_simulates(seed, fuzz_base):
     assert outcome.status == 0, outcome.describe()
 
 
-@fuzz_settings(150)
+@fuzz_settings(300)
 @given(seed=st.sampled_from(SEEDS), command=st.sampled_from(COMMANDS),
        mutations=st.lists(source_mutation(), min_size=1, max_size=3))
 def test_mutated_model_gives_success_or_clear_error(fuzz_base, seed, command, mutations):
@@ -96,7 +112,7 @@ def base_arguments(command: str, path: str, seed, options) -> list[str]:
     return argv
 
 
-@fuzz_settings(150)
+@fuzz_settings(300)
 @given(seed=st.sampled_from(SEEDS), command=st.sampled_from(COMMANDS + ("simulate",) * 5),
        options=st.lists(st.tuples(st.sampled_from(SIMULATE_OPTIONS), st.sampled_from(ARGUMENT_VALUES)),
                         max_size=4),
@@ -116,7 +132,7 @@ def _usable_as_path(name: str) -> bool:
     return "\x00" not in name and name not in ("", ".", "..") and len(name.encode()) < 200
 
 
-@fuzz_settings(60)
+@fuzz_settings(100)
 @given(seed=st.sampled_from(SEEDS), name=st.sampled_from(HOSTILE_NAMES),
        where=st.sampled_from(["file", "folder", "component", "spec", "library"]),
        command=st.sampled_from(("check", "flatten", "simulate", "parse")))

@@ -46,6 +46,26 @@ def test_name_too_long(fuzz_base, arguments):
     _assert_clear(run_in_process(argv, work), HANG_LIMIT_S)
 
 
+@_bug("name-too-long", "a component named with 300 characters in a model file is looked up as "
+                       "components/<name>: an internal OSError (ENAMETOOLONG)")
+def test_component_name_too_long(fuzz_base):
+    work = example_dir(fuzz_base)
+    text = OSCILLATOR.text.replace("component Oscillator", "component " + "x" * 300)
+    path = str(write_seed(work, OSCILLATOR, text))
+    assert known_bug(["check", path], text) == "name-too-long"
+    _assert_clear(run_in_process(["check", path], work), HANG_LIMIT_S)
+
+
+@_bug("exponent-size", "`variable w::Real[1e308]` is an internal ValueError (Maximum allowed "
+                       "dimension exceeded) instead of a located error on the size")
+def test_exponent_size(fuzz_base):
+    work = example_dir(fuzz_base)
+    text = "variable v::Real(initial = 0.0)\n  variable w::Real[1e308]"
+    path = _oscillator_with(work, "variable v::Real(initial = 0.0)", text)
+    assert known_bug(["check", path], text) == "exponent-size"
+    _assert_clear(run_in_process(["check", path], work), HANG_LIMIT_S)
+
+
 @_bug("nul-in-argument", "main(['check', 'a\\0']) is an internal ValueError (embedded null byte); "
                          "only callers of compiler.cli.main can pass one, a shell cannot")
 def test_nul_in_argument(fuzz_base):
