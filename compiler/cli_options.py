@@ -15,6 +15,7 @@ from typing import Mapping
 import numpy as np
 
 from compiler.errors import DyadError
+from compiler.runtime.options import SHORTEST_SPAN, SMALLEST_TOLERANCE
 
 # Output values (time points x signals) a run may allocate unless the user raises the limit.
 DEFAULT_MAX_OUTPUT_VALUES = 10_000_000
@@ -52,6 +53,9 @@ def check_positive(option: str, value: float) -> None:
     if not value > 0:
         raise DyadError(f"{option} must be positive, got {value:g}",
                         hint="tolerances are relative (--rtol) or absolute (--atol) errors, e.g. 1e-6")
+    if value < SMALLEST_TOLERANCE:
+        raise DyadError(f"{option} {value:g} is below {SMALLEST_TOLERANCE:g}: no solver resolves it",
+                        hint="tolerances are relative (--rtol) or absolute (--atol) errors, e.g. 1e-6")
 
 
 def check_span(start: float, stop: float) -> None:
@@ -59,6 +63,8 @@ def check_span(start: float, stop: float) -> None:
     check_finite("--stop", stop)
     if not stop > start:
         raise DyadError(f"--stop {stop:g} must be after --start {start:g}")
+    if stop - start <= SHORTEST_SPAN * max(1.0, abs(start), abs(stop)):
+        raise DyadError(f"the span from --start {start:g} to --stop {stop:g} is shorter than round-off")
 
 
 def check_output_size(points: int, signals: int, limit: int, what: str) -> None:

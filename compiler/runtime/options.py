@@ -13,6 +13,8 @@ import numpy as np
 from .errors import ModelInputError
 
 MAX_OUTPUT_POINTS = 10_000_000
+SMALLEST_TOLERANCE = 1e-100   # below this a tolerance means nothing to IDAS (atol 1e-300 never ends)
+SHORTEST_SPAN = 1e-12         # relative: a span below this is round-off
 
 
 @dataclass(frozen=True)
@@ -34,6 +36,8 @@ class SimulationOptions:
         start, stop = _finite("start", self.start), _finite("stop", self.stop)
         if not stop > start:
             raise ModelInputError(f"stop time {stop:g} must be after start time {start:g}")
+        if stop - start <= SHORTEST_SPAN * max(1.0, abs(start), abs(stop)):
+            raise ModelInputError(f"the span from {start:g} to {stop:g} is shorter than round-off")
         _positive("rtol", self.rtol)
         if isinstance(self.atol, Mapping):
             for name, value in self.atol.items():
@@ -105,4 +109,6 @@ def _positive(name: str, value) -> float:
     number = _finite(name, value)
     if not number > 0:
         raise ModelInputError(f"{name} must be positive, got {value!r}")
+    if number < SMALLEST_TOLERANCE and name != "max_step":
+        raise ModelInputError(f"{name} {value!r} is below {SMALLEST_TOLERANCE:g}: no solver resolves it")
     return number
