@@ -144,14 +144,16 @@ def test_hostile_names_give_success_or_clear_error(fuzz_base, seed, name, where,
     if where == "file" and _usable_as_path(name):
         path = work / f"{name}.dyad"
         path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(text.replace(f"component {seed.name}", f"component {name}"), encoding="utf-8")
+        text = text.replace(f"component {seed.name}", f"component {name}")
+        path.write_text(text, encoding="utf-8")
         spec = str(path)
     elif where == "folder" and _usable_as_path(name):
         folder = work / name
         folder.mkdir(parents=True, exist_ok=True)
         spec = str(write_seed(folder, seed))
     elif where == "component":
-        spec = str(write_seed(work, seed, text.replace(f"component {seed.name}", f"component {name}")))
+        text = text.replace(f"component {seed.name}", f"component {name}")
+        spec = str(write_seed(work, seed, text))
     elif where == "spec":
         spec = f"{write_seed(work, seed)}:{name}"
     elif where == "library" and _usable_as_path(name):
