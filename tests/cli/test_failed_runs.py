@@ -42,3 +42,22 @@ def test_keep_partial_writes_what_the_run_reached_under_a_partial_name(model, tm
     last_time, last_x = (float(v) for v in rows[-1].split(","))
     assert last_time == pytest.approx(1.0) and last_x == pytest.approx(0.0, abs=1e-9)   # on the bound
     assert "out.partial.csv" in capsys.readouterr().err
+
+
+def test_a_sign_error_that_makes_the_solution_explode_stops_with_a_located_error(tmp_path, capsys):
+    # meant der(x) = -10 x; with the sign wrong x grows as exp(10 t): 2.7e43 at t = 10
+    path = tmp_path / "Runaway.dyad"
+    path.write_text("""component Runaway
+  variable x::Real
+relations
+  initial x = 1
+  der(x) = 10 * x
+end
+""", encoding="utf-8")
+    assert main(["simulate", str(path), "--stop", "10", "--output", str(tmp_path / "out.csv")]) == 1
+    err = capsys.readouterr().err
+    assert "grew beyond 1e+12 times its scale" in err and "the model diverges" in err
+    t = float(err.split("stopped at t = ")[1].split(":")[0])
+    assert 2.7 < t < 3.0                    # exp(10 t) passes 1e12 at t = 2.76
+    assert f"{path}:2:3: note: `x` is declared here" in err
+    assert not (tmp_path / "out.csv").exists()
