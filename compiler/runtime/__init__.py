@@ -8,7 +8,7 @@ Public API (docs/runtime.md):
   StateSetSwitcher           what a caller provides to switch state sets during a run
   SimulationFailed, InitializationFailed, SimulationInterrupted, ModelInputError
 """
-from .driver import StateSetSwitcher, output_grid, simulate
+from .driver import StateSetSwitcher, simulate
 from .errors import (InitializationFailed, ModelInputError, SimulationFailed, SimulationInterrupted,
                      did_you_mean)
 from .initialization import consistent_initialization
@@ -21,5 +21,5 @@ from .state_sets import SWITCH_RATIO, pivoted_columns, state_selection_quality
 __all__ = ["CompiledModel", "FORMAT_VERSION", "InitializationFailed", "ModelInputError", "Result",
            "SWITCH_RATIO", "SimulationFailed", "SimulationInterrupted", "SimulationOptions",
            "StateSetSwitcher", "consistent_initialization", "did_you_mean", "evaluate_outputs",
-           "output_grid", "pivoted_columns", "polish_algebraics", "simulate",
+           "pivoted_columns", "polish_algebraics", "simulate",
            "state_selection_quality"]

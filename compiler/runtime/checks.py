@@ -2,7 +2,6 @@
 stops where a bound is crossed, whatever the output grid), non-finite and runaway values."""
 from __future__ import annotations
 
-from typing import Mapping, Sequence
 
 import casadi as ca
 import numpy as np
@@ -44,30 +43,6 @@ def bound_violation(model: CompiledModel, name: str, key: str, bound: float, val
                             f"{reason}", float(t), reason, variable=name)
 
 
-def check_bounds(model: CompiledModel, grid: np.ndarray, names: Sequence[str],
-                 values: np.ndarray) -> None:
-    """The same bounds on values already computed (output points): the first violation fails."""
-    bounds = model.metadata.get("bounds") or {}
-    index = {n: i for i, n in enumerate(names)}
-    first = None
-    for name, limits in bounds.items():
-        if name not in index:
-            continue
-        row = values[index[name]]
-        for key in ("min", "max"):
-            if key not in limits:
-                continue
-            bound = float(limits[key])
-            slack = _slack(bound)
-            bad = row < bound - slack if key == "min" else row > bound + slack
-            hits = np.nonzero(bad)[0]
-            if hits.size and (first is None or hits[0] < first[0]):
-                first = (int(hits[0]), name, key, bound, float(row[hits[0]]))
-    if first is not None:
-        k, name, key, bound, value = first
-        raise bound_violation(model, name, key, bound, value, grid[k])
-
-
 def check_divergence(model: CompiledModel, grid: np.ndarray, xs: np.ndarray, scale: np.ndarray) -> None:
     """States that became non-finite or grew beyond RUNAWAY_LIMIT times their scale: the model
     diverges (a sign error, an unstable loop); stop at the first output time where it shows."""
@@ -90,21 +65,3 @@ def check_divergence(model: CompiledModel, grid: np.ndarray, xs: np.ndarray, sca
 def state_scales(model: CompiledModel, x0: np.ndarray) -> np.ndarray:
     nominal = np.array([abs(model.nominals.get(n, 1.0)) for n in model.state_names])
     return np.maximum.reduce([np.ones_like(nominal), nominal, np.abs(np.asarray(x0, dtype=float))])
-
-
-def first_bound_near(model: CompiledModel, values: Mapping[str, float], margin: float = 0.05) -> str:
-    """At a failure: the bounded outputs that are within `margin` (relative to their own scale) of a
-    bound, as a hint ("stick_cyl.cylinder.V_a = 1.2e-07 is at its min = 0")."""
-    near = []
-    for name, limits in sorted((model.metadata.get("bounds") or {}).items()):
-        if name not in values:
-            continue
-        value = float(values[name])
-        for key in ("min", "max"):
-            if key in limits:
-                bound = float(limits[key])
-                scale = max(abs(bound), abs(model.nominals.get(name, 0.0)), 1e-300)
-                if abs(value - bound) <= margin * scale or (key == "min" and value < bound) \
-                        or (key == "max" and value > bound):
-                    near.append(f"{name} = {value:.6g} is at its {key} = {bound:g}")
-    return "; ".join(near)

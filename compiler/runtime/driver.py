@@ -11,7 +11,7 @@ else cuts the run: not the output grid, not a progress bar.
 from __future__ import annotations
 
 import time as _time
-from typing import Mapping, Protocol, Sequence
+from typing import Mapping, Protocol
 
 import numpy as np
 
@@ -61,7 +61,6 @@ class _Run:
         self.integrators: dict[int, tuple] = {}
         self.pending: dict[int, tuple] = {}
         self.forced_ends: set[float] = set()
-        self.model = model
         self.t = options.start
 
     def integrator(self, model: CompiledModel):
@@ -149,9 +148,14 @@ def _run_watched(run, model, p, point, progress, stats, began) -> Result:
     stats["run_time"] = _time.perf_counter() - began
     stats.update(run.counters)
     stats["state_switches"] = run.switches
+    return _result(run, model, len(run.grid), stats)
+
+
+def _result(run: _Run, model: CompiledModel, n: int, stats: dict) -> Result:
+    """The first n output times of the run as a Result."""
     units = model.metadata.get("units") or {}
-    return Result(run.grid, run.public, run.values, stats, model.name,
-                  units={n: units[n] for n in run.public if n in units},
+    return Result(run.grid[:n], run.public, run.values[:, :n], stats, model.name,
+                  units={name: units[name] for name in run.public if name in units},
                   events=run.events, switches=run.switches)
 
 
@@ -163,12 +167,7 @@ def _partial_result(run: _Run, model: CompiledModel) -> Result | None:
         return None
     filled = ~np.isnan(run.values).all(axis=0) if run.values.size else np.zeros(0, dtype=bool)
     n = int(np.argmin(filled)) if not filled.all() else len(filled)
-    if n == 0:
-        return None
-    units = model.metadata.get("units") or {}
-    return Result(run.grid[:n], run.public, run.values[:, :n], dict(run.counters), model.name,
-                  units={name: units[name] for name in run.public if name in units},
-                  events=run.events, switches=run.switches)
+    return _result(run, model, n, dict(run.counters)) if n else None
 
 
 def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: Progress) -> float:
@@ -279,8 +278,7 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
         else:
             model, x, z, p = _switch(run, model, values, t_cross, p, x_cross, z_cross, what)
             just_switched = True
-            scale = np.maximum(scale[:len(x)] if len(scale) == len(x) else state_scales(model, x),
-                               state_scales(model, x))
+            scale = state_scales(model, x)        # other states: their scale from the switch point
         t = t_cross
         progress.update(t)
     return t
@@ -467,8 +465,4 @@ def _all_outputs(model: CompiledModel, x, z, p, t: float) -> np.ndarray:
 def _outputs_at(run: _Run, model: CompiledModel, x, z, p, t: float) -> np.ndarray:
     index = [model.output_index(n) for n in run.public]
     return _all_outputs(model, x, z, p, t)[index]
-
-
-def output_grid(start: float, stop: float, points: int, saveat: Sequence[float] | None) -> np.ndarray:
-    return SimulationOptions(stop=stop, start=start, points=points, saveat=saveat).validated().grid()
 
