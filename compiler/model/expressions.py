@@ -131,15 +131,18 @@ def to_bool(value: Any, span: Span | None) -> Any:
         raise DyadError("a condition must be a scalar", span)
     if value.is_Number:
         return sympy.true if value != 0 else sympy.false
-    return sympy.Ne(value, 0)
+    # A Boolean variable is 1 or 0 (Booleans are numbers in Dyad); "above one half" says the same
+    # for those values and, unlike `!= 0`, crosses zero, so the run can locate where it changes.
+    return sympy.Gt(value, sympy.Rational(1, 2))
 
 
 def _num(value: Any, span: Span | None) -> Any:
-    """Booleans enter arithmetic as 1/0; a symbolic condition cannot."""
+    """Booleans enter arithmetic as 1/0, a symbolic condition as a 1/0 selection."""
     if isinstance(value, BooleanAtom):
         return sympy.Integer(1 if value else 0)
     if isinstance(value, CONDITION_TYPES):
-        raise DyadError("a condition cannot be used as a number; use ifelse(c, 1, 0)", span)
+        # A Boolean is a number in Dyad (true = 1, false = 0): `y = u > 1` on a Boolean output.
+        return sympy.Piecewise((sympy.Integer(1), value), (sympy.Integer(0), True))
     if isinstance(value, str):
         raise DyadError("a string cannot be used in arithmetic", span)
     if is_node_like(value) or is_node_array(value):
@@ -571,6 +574,10 @@ def _call(expr: ast.Call, scope: EvalScope, mode: Mode) -> Any:
                                  evaluate(expr.args[1], scope, mode), span)
     if name in ("minimum", "maximum"):
         name = name[:3]         # Julia's reductions over an array; min/max take arrays too
+    if name == "not":           # `not(c)` is `!c`
+        if len(expr.args) != 1 or expr.kwargs:
+            raise DyadError("`not` takes one argument", span)
+        return sympy.Not(to_bool(evaluate(expr.args[0], scope, mode), span))
     if name in ("der", "D"):    # `D(x)` is Dyad's spelling of der(x)
         if len(expr.args) != 1:
             raise DyadError(f"`{name}` takes one argument", span)

@@ -167,7 +167,7 @@ ELEMENTARY: dict[str, FunctionImpl] = {
 
 # Handled by the evaluator itself (they need the mode or structural integers); listed so that the
 # did-you-mean hint and docs know them.
-EVALUATOR_FUNCTIONS = ("der", "ifelse", "fill", "zeros", "ones", "size")
+EVALUATOR_FUNCTIONS = ("der", "D", "not", "ifelse", "fill", "zeros", "ones", "size")
 
 
 # ------------------------------------------------------------------------------ the registry
