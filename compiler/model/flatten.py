@@ -245,6 +245,8 @@ class Flattener:
         if "units" in attributes:
             expr, scope = attributes["units"]
             units = evaluate(expr, scope, Mode.NUMERIC)
+            if getattr(units, "is_number", False) and units == 1:
+                units = "1"         # Dyad writes a dimensionless unit as the number `units = 1`
             if not isinstance(units, str):
                 raise DyadError("`units` must be a string", expr.span)
             for name in variable.names:

@@ -163,6 +163,8 @@ ELEMENTARY: dict[str, FunctionImpl] = {
     "cross": FunctionImpl("cross", _cross, 2, 2),
     "transpose": FunctionImpl("transpose", _transpose, 1, 1),
     "length": FunctionImpl("length", _length, 1, 1),
+    # Julia's `identity`: published translations wrap selections in it
+    "identity": FunctionImpl("identity", lambda value: value, 1, 1),
 }
 
 # Handled by the evaluator itself (they need the mode or structural integers); listed so that the
