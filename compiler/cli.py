@@ -238,6 +238,9 @@ def _cmd_simulate(args) -> int:
     overrides = [options.parse_override(text) for text in args.params]
     check_simulate_outputs(args.output, args.plot)
     compilation = compile_spec(args.model, args.lib)
+    from compiler.testing.golden import initialization_notes    # under-determined: what was chosen
+    for note in initialization_notes(compilation):
+        print(f"note: {note}", file=sys.stderr)
     model = compilation.model
     options.check_output_size(times, len(model.output_names), limit, f"{times:,} output times of {model.name}")
     units = model.metadata.get("units", {})

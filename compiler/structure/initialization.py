@@ -1,14 +1,17 @@
 """The initialization problem: the DAE's algebraic residuals plus the initial equations, in the
 unknowns IDAS starts from (states x and algebraic z). Redundant consistent conditions are allowed
-(the runtime solves in the least-squares sense and checks the residual); too few conditions are
-an error here, naming the states nobody fixes."""
+(the runtime solves in the least-squares sense and checks the residual). Too few conditions are
+normal in Dyad code (a capacitor without `initial v = ...`): as Dyad's initialization does, the
+unknowns left free are fixed at their start values / guesses (0 without either), preferring
+states with a given value, then other states, then algebraic unknowns; InitialProblem.chosen
+lists them for the note the commands print."""
 from __future__ import annotations
 
 import sympy
 
-from compiler.errors import DyadError, Note
+from compiler.errors import DyadError
 from compiler.model.flat import FlatSystem, Origin
-from compiler.structure.graph.matching import maximum_matching
+from compiler.structure.graph.matching import augmenting_path, maximum_matching
 from compiler.structure.reduced import Assignment, InitialProblem
 
 _MAX_LISTED = 10
@@ -36,9 +39,12 @@ def build_initial_problem(flat: FlatSystem, alias, states: list[str], algebraics
                             hint="initial conditions may use variables and der() of states")
         residuals.append(expr)
         origins.append(eq.origin)
-    _check_determined(states, algebraics, assignments, residuals, origins)
+    chosen = _choose_free(flat, states, algebraics, assignments, residuals, guesses)
+    for name, value in chosen.items():
+        residuals.append(sympy.Symbol(name) - sympy.Float(value))
+        origins.append(_declaration(flat, name))
     seeds = {n: guesses[n] for n in states + algebraics if n in guesses}
-    return InitialProblem(residuals, origins, seeds)
+    return InitialProblem(residuals, origins, seeds, chosen)
 
 
 def _substitute(expr: sympy.Expr, maps: list[dict]) -> sympy.Expr:
@@ -52,8 +58,49 @@ def _substitute(expr: sympy.Expr, maps: list[dict]) -> sympy.Expr:
     raise RuntimeError("substitution does not terminate")
 
 
-def _check_determined(states, algebraics, assignments, residuals, origins) -> None:
+# Beyond this many preferred candidates that do not raise the matching, the remaining free
+# unknowns of the maximum matching are taken as they are (each failed try costs a graph search).
+_MAX_FAILED_TRIES = 200
+
+
+def _choose_free(flat: FlatSystem, states: list[str], algebraics: list[str],
+                 assignments: list[Assignment], residuals: list[sympy.Expr],
+                 guesses: dict[str, float]) -> dict[str, float]:
+    """Unknowns to fix at their start values so that the initialization is structurally
+    determined: {} when it already is. A maximum matching of the residuals is extended by one
+    row `u = start(u)` per candidate u (in order of preference) that an augmenting path can
+    match, until every unknown is matched."""
     unknowns = states + algebraics
+    incidence = _incidence(unknowns, assignments, residuals)
+    eq_to_var, var_to_eq = maximum_matching(len(residuals), len(unknowns), incidence)
+    missing = sum(1 for e in var_to_eq if e < 0)
+    if missing == 0:
+        return {}
+    state_set = set(states)
+    order = sorted(range(len(unknowns)), key=lambda v: (unknowns[v] not in state_set,
+                                                        unknowns[v] not in guesses, v))
+    chosen: list[int] = []
+    failed = 0
+    for v in order:
+        if len(chosen) == missing or failed > _MAX_FAILED_TRIES:
+            break
+        row = len(incidence)
+        incidence.append([v])
+        eq_to_var.append(-1)
+        found, _, _ = augmenting_path(row, incidence, eq_to_var, var_to_eq)
+        if found:
+            chosen.append(v)
+        else:
+            incidence.pop()
+            eq_to_var.pop()
+            failed += 1
+    chosen += [v for v, e in enumerate(var_to_eq) if e < 0]     # what the tries did not reach
+    return {unknowns[v]: float(guesses.get(unknowns[v], 0.0)) for v in chosen}
+
+
+def _incidence(unknowns: list[str], assignments: list[Assignment],
+               residuals: list[sympy.Expr]) -> list[list[int]]:
+    """Per residual, the unknowns it depends on (through the assignments it uses)."""
     index = {sympy.Symbol(n): i for i, n in enumerate(unknowns)}
     depends: dict[sympy.Symbol, frozenset[int]] = {}
     for a in assignments:
@@ -73,10 +120,21 @@ def _check_determined(states, algebraics, assignments, residuals, origins) -> No
             elif s in depends:
                 deps |= depends[s]
         incidence.append(sorted(deps))
-    _, var_to_eq = maximum_matching(len(residuals), len(unknowns), incidence)
-    free = [unknowns[i] for i, e in enumerate(var_to_eq) if e < 0]
-    if free:
-        listed = ", ".join(free[:_MAX_LISTED]) + (f" and {len(free) - _MAX_LISTED} more" if len(free) > _MAX_LISTED else "")
-        raise DyadError(f"the initial conditions are under-determined: nothing fixes {listed} at the start time",
-                        None, hint="add `initial` equations or `(initial = ...)` modifiers for these "
-                        f"states ({len(states)} states need {len(states)} independent initial conditions)")
+    return incidence
+
+
+def _declaration(flat: FlatSystem, name: str) -> Origin:
+    """Where `name` is declared: the origin of the row that fixes it at its start value."""
+    for variable in flat.variables:
+        if variable.name == name:
+            return variable.origin
+    return Origin("")
+
+
+def describe_chosen(chosen: dict[str, float]) -> str:
+    """The note for an under-determined initialization, e.g. `capacitor.v = 0`."""
+    listed = ", ".join(f"{n} = {v:g}" for n, v in list(chosen.items())[:_MAX_LISTED])
+    more = f" and {len(chosen) - _MAX_LISTED} more" if len(chosen) > _MAX_LISTED else ""
+    return (f"the initial conditions leave {len(chosen)} unknown(s) free; fixed at their start "
+            f"values or guesses (0 where none is given), as Dyad's initialization does: "
+            f"{listed}{more}")

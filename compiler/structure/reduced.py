@@ -44,6 +44,9 @@ class InitialProblem:
     residuals: list[sympy.Expr]
     origins: list[Origin | None]
     guesses: dict[str, float] = field(default_factory=dict)   # seeds for x and z
+    # Under-determined initialization: unknowns the initial conditions left free, fixed at these
+    # start values / guesses (their rows are among `residuals`); reported as a note.
+    chosen: dict[str, float] = field(default_factory=dict)
 
 
 @dataclass

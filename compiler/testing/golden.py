@@ -19,8 +19,9 @@ from typing import Sequence
 
 from compiler.errors import DyadError
 from compiler.testing.golden_cases import TestCase, cases_from_metadata, discover, parse_span_text
-from compiler.testing.golden_compare import (CaseReport, compare_finals, compare_signals, golden_path,
-                                     read_golden, signal_values, write_golden)
+from compiler.testing.golden_compare import (CaseReport, compare_finals, compare_initials,
+                                             compare_signals, golden_path, read_golden,
+                                             signal_values, write_golden)
 
 GOLDEN_RTOL = 1e-10
 DEFAULT_GOLDEN_DIR = os.path.join("tests", "golden")     # relative: to the current directory
@@ -44,10 +45,55 @@ def integrator_atol(compilation, case: TestCase, base: float) -> dict[str, float
     return {"*": base, **{name: base * size for name, size in case.nominal.items()}}
 
 
-def _simulate(compilation, case: TestCase, rtol: float):
+class PendingCompilation:
+    """A flattened model, compiled on first use: a case whose "initial" map fixes unknowns
+    compiles a variant of its own, so the model is not compiled (and cannot fail) without that
+    map unless a case needs it."""
+
+    def __init__(self, flat, timings: dict[str, float]):
+        self.flat = flat
+        self.timings = timings
+        self._compiled = None
+
+    def get(self):
+        if self._compiled is None:
+            from compiler.pipeline import compile_flat
+            self._compiled = compile_flat(self.flat, self.timings)
+        return self._compiled
+
+
+def _simulate(compilation, case: TestCase, rtol: float | None):
+    """The case's run: its "initial" map applied (a compilation of its own when it fixes
+    unknowns), `rtol` None meaning the golden's tolerance. `compilation` is a Compilation or a
+    PendingCompilation."""
     from compiler import api
-    return api.simulate_compiled(compilation, case.stop, start=case.start, rtol=rtol,
-                                 atol=integrator_atol(compilation, case, rtol), points=case.points)
+    from compiler.pipeline import compile_flat
+    from compiler.testing.start_values import with_start_values
+    rtol = GOLDEN_RTOL if rtol is None else rtol
+    params: dict[str, float] = {}
+    flat = compilation.flat
+    if case.initial_values:
+        flat, params = with_start_values(compilation.flat, case.initial_values,
+                                         f"test case `{case.name}`", case.span)
+    if flat is not compilation.flat:
+        compilation = compile_flat(flat, compilation.timings)
+    elif isinstance(compilation, PendingCompilation):
+        compilation = compilation.get()
+    result = api.simulate_compiled(compilation, case.stop, start=case.start, rtol=rtol,
+                                   atol=integrator_atol(compilation, case, rtol), points=case.points,
+                                   params=params or None)
+    return result, initialization_notes(compilation)
+
+
+def initialization_notes(compilation) -> list[str]:
+    """The note on start values chosen for an under-determined initialization, if any."""
+    from compiler.structure.initialization import describe_chosen
+    chosen = compilation.reduced.initial.chosen
+    return [describe_chosen(chosen)] if chosen else []
+
+
+def _compared_names(case: TestCase) -> list[str]:
+    return list(dict.fromkeys(list(case.signals) + list(case.expect_initial) + list(case.final)))
 
 
 def run_case(compilation, case: TestCase, golden_dir: str | os.PathLike,
@@ -63,14 +109,16 @@ def run_case(compilation, case: TestCase, golden_dir: str | os.PathLike,
                             hint=f"create it explicitly (after checking the model independently): "
                                  f"dyadc test {spec or case.model} --golden {golden_dir} --accept")
         golden = read_golden(path)
-        result = _simulate(compilation, case, case.rtol)
+        result, notes = _simulate(compilation, case, case.rtol)
+        report.notes.extend(notes)
     except DyadError as err:
         report.error = err.format()
         report.seconds = time.perf_counter() - began
         return report
-    names = list(case.signals) + list(case.final)
-    values = signal_values(result, names)
-    report.signals, report.notes = compare_signals(case, result.time, values, golden)
+    values = signal_values(result, _compared_names(case))
+    report.signals, grid_notes = compare_signals(case, result.time, values, golden)
+    report.notes.extend(grid_notes)
+    report.initials = compare_initials(case, result.time, values)
     report.finals = compare_finals(case, result.time, values)
     report.seconds = time.perf_counter() - began
     return report
@@ -84,7 +132,8 @@ def accept_case(compilation, case: TestCase, golden_dir: str | os.PathLike) -> C
     began = time.perf_counter()
     path = golden_path(golden_dir, case)
     try:
-        result = _simulate(compilation, case, GOLDEN_RTOL)
+        result, notes = _simulate(compilation, case, GOLDEN_RTOL)
+        report.notes.extend(notes)
     except DyadError as err:
         report.error = f"golden run at rtol {GOLDEN_RTOL:g} failed: {err.format()}"
         report.seconds = time.perf_counter() - began
@@ -95,10 +144,12 @@ def accept_case(compilation, case: TestCase, golden_dir: str | os.PathLike) -> C
         report.error = (f"golden not written: the model has no signal(s) {', '.join(missing)}")
         report.seconds = run_seconds
         return report
-    report.finals = compare_finals(case, result.time, signal_values(result, list(case.final)))
+    values = signal_values(result, _compared_names(case))
+    report.initials = compare_initials(case, result.time, values)
+    report.finals = compare_finals(case, result.time, values)
     if not report.passed:
         report.notes.append(f"golden NOT written to {path}: the golden run disagrees with the "
-                            f"metadata's final values")
+                            f"metadata's initial or final values")
         report.seconds = run_seconds
         return report
     os.makedirs(golden_dir, exist_ok=True)
@@ -126,14 +177,14 @@ def run_tests(model_spec: str | None, lib_dirs: Sequence[str] = (), *,
               out=None) -> list[CaseReport]:
     """Run (or with `accept`, write the goldens of) every case of one model, or without a model
     every case of the named libraries (see _cases_by_model). A model named explicitly that fails
-    to compile or declares no cases is an error; during discovery a model that fails to compile
-    fails its cases and the others still run."""
-    from compiler import api
+    to flatten or declares no cases is an error; during discovery a model that fails to flatten
+    fails its cases and the others still run. A model that does not compile fails its cases."""
+    from compiler.pipeline import flatten_spec
 
     out = out or sys.stdout
     reports: list[CaseReport] = []
     if model_spec is not None:
-        compilation = api.compile(model_spec, lib_dirs)
+        compilation = PendingCompilation(*flatten_spec(model_spec, lib_dirs))
         model = _qualified_name(model_spec, lib_dirs)
         cases = cases_of_compilation(model, compilation)
         if not cases:
@@ -144,7 +195,8 @@ def run_tests(model_spec: str | None, lib_dirs: Sequence[str] = (), *,
         targets = []
         for model, cases in _cases_by_model(lib_dirs).items():
             try:
-                targets.append((model, api.compile(model, lib_dirs), cases))
+                targets.append((model, PendingCompilation(*flatten_spec(model, lib_dirs)),
+                                cases))
             except DyadError as err:
                 for case in cases:
                     reports.append(CaseReport(case, error=f"cannot compile {model}: {err.format()}"))

@@ -4,14 +4,22 @@ A case lives in a component's metadata, the Dyad way:
 
     metadata {"Dyad": {"tests": {"dig_cycle": {
         "stop": 12, "points": 1201, "rtol": 1e-6,
+        "initial": {"c.v": 10},
         "atol": {"a.x": 1e-5, "*": 1e-6}, "signal_rtol": {"a.x": 1e-4},
         "nominal": {"load.m": 100},
-        "expect": {"signals": ["a.x"], "final": {"a.x": 0.25}}}}}}
+        "expect": {"signals": ["a.x"], "initial": {"a.x": 0}, "final": {"a.x": "0.25"}}}}}}
 
-`atol` / `signal_rtol` are the per-signal comparison tube (a number, or a dict with an optional
-"*" default); `rtol` is the integrator tolerance of the production run; `nominal` sizes of
-unknowns scale the integrator's absolute tolerances (beyond the start-value nominals the runtime
-already uses). Malformed cases are DyadErrors located at the case's key in the source.
+`initial` sets start values (an unknown: its initial condition, replacing the model's own for
+it; a parameter: its value), as Dyad's `u0` map does. `atol` / `signal_rtol` are the per-signal
+comparison tube (a number, or a dict with an optional "*" default). A signal the case gives no
+tolerance for is compared the way Dyad's generated tests compare it, with Julia's `isapprox`
+defaults: relative tolerance sqrt(eps) = 1.49e-8 and no absolute part; a stated `atol` alone
+makes the tube (Julia's rtol is 0 once atol > 0). `rtol` is the integrator tolerance of the
+production run; a case that states none and compares some signal at the default tube runs at
+the golden's tolerance (then, like Dyad's snapshots, the check is a reproduction). `nominal` sizes
+of unknowns scale the integrator's absolute tolerances (beyond the start-value nominals the
+runtime already uses). Numbers may be written as JSON numbers or as strings ("0.31784799"), as
+Dyad's libraries do. Malformed cases are DyadErrors located at the case's key in the source.
 """
 from __future__ import annotations
 
@@ -28,8 +36,12 @@ from compiler.syntax import ast
 DEFAULT_RTOL = 1e-6             # production integrator tolerance when a case states none
 DEFAULT_POINTS = 501            # same default as `dyadc simulate`
 DEFAULT_SIGNAL_RTOL = 0.0       # the metadata's atol alone makes the tube unless it says more
+# Julia's isapprox(x, y) without atol: rtol = sqrt(eps(Float64)), atol = 0. Dyad's generated
+# tests compare `sol[x][end] ≈ value` that way when the case gives no atol for x.
+DYAD_DEFAULT_RTOL = math.sqrt(2.0 ** -52)
 _KNOWN_KEYS = {"stop", "start", "points", "rtol", "atol", "signal_rtol", "nominal", "expect",
-               "description"}
+               "description", "initial"}
+_EXPECT_KEYS = {"signals", "final", "initial"}
 
 
 @dataclass(frozen=True)
@@ -39,13 +51,16 @@ class TestCase:
     stop: float
     start: float = 0.0
     points: int = DEFAULT_POINTS
-    rtol: float = DEFAULT_RTOL
+    rtol: float | None = DEFAULT_RTOL   # None: as the golden run (see the module docstring)
     signals: tuple[str, ...] = ()
     atol: dict[str, float] = field(default_factory=dict)         # per signal, "*" resolved
     signal_rtol: dict[str, float] = field(default_factory=dict)  # per signal, "*" resolved
     nominal: dict[str, float] = field(default_factory=dict)
     final: dict[str, float] = field(default_factory=dict)
     span: Span | None = None
+    initial_values: dict[str, float] = field(default_factory=dict)   # the case's "initial"
+    expect_initial: dict[str, float] = field(default_factory=dict)   # "expect.initial"
+    default_tube: tuple[str, ...] = ()      # signals compared at Dyad's default tolerance
 
     __test__ = False            # not a pytest class, despite its name
 
@@ -116,47 +131,68 @@ def _parse_case(model: str, name: str, spec: Any, span: Span | None) -> TestCase
     points = spec.get("points", DEFAULT_POINTS)
     if not isinstance(points, int) or isinstance(points, bool) or points < 2:
         raise DyadError(f'{where}: "points" must be an integer >= 2', span)
-    rtol = _positive(spec.get("rtol", DEFAULT_RTOL), f'{where}: "rtol" (integrator tolerance)', span)
     expect = spec.get("expect", {})
     if not isinstance(expect, dict):
         raise DyadError(f'{where}: "expect" must be an object', span)
+    unknown = sorted(set(expect) - _EXPECT_KEYS)
+    if unknown:
+        raise DyadError(f'{where}: unknown key(s) expect.{", expect.".join(unknown)}', span,
+                        hint="known keys of expect: " + ", ".join(sorted(_EXPECT_KEYS)))
     signals = expect.get("signals", [])
     if not isinstance(signals, list) or not all(isinstance(s, str) for s in signals):
         raise DyadError(f'{where}: "expect.signals" must be a list of signal names', span)
     if len(set(signals)) != len(signals):
         raise DyadError(f'{where}: "expect.signals" names a signal twice', span)
-    final = expect.get("final", {})
-    if not isinstance(final, dict):
-        raise DyadError(f'{where}: "expect.final" must be an object of signal: value', span)
-    final = {k: _number(v, f'{where}: final value of "{k}"', span) for k, v in final.items()}
-    if not signals and not final:
-        raise DyadError(f'{where} expects nothing: give "expect.signals" and/or "expect.final"', span)
-    compared = list(dict.fromkeys(list(signals) + list(final)))
+    final = _values(expect.get("final", {}), f'{where}: "expect.final"', "final value", span)
+    expect_initial = _values(expect.get("initial", {}), f'{where}: "expect.initial"',
+                             "initial value", span)
+    if not signals and not final and not expect_initial:
+        raise DyadError(f'{where} expects nothing: give "expect.signals", "expect.initial" and/or '
+                        f'"expect.final"', span)
+    initial_values = _values(spec.get("initial", {}), f'{where}: "initial"', "initial value", span)
+    compared = list(dict.fromkeys(list(signals) + list(final) + list(expect_initial)))
     atol = _per_signal(spec.get("atol"), compared, None, f'{where}: "atol"', span)
-    signal_rtol = _per_signal(spec.get("signal_rtol"), compared, DEFAULT_SIGNAL_RTOL,
-                              f'{where}: "signal_rtol"', span)
+    defaults = tuple(signal for signal in compared if atol[signal] is None)
+    signal_rtol = _per_signal(spec.get("signal_rtol"), compared, None, f'{where}: "signal_rtol"', span)
+    for signal in compared:
+        if atol[signal] is None:             # Dyad's default comparison (isapprox, no atol)
+            atol[signal] = 0.0
+            if signal_rtol[signal] is None:
+                signal_rtol[signal] = DYAD_DEFAULT_RTOL
+        elif signal_rtol[signal] is None:
+            signal_rtol[signal] = DEFAULT_SIGNAL_RTOL
+    if "rtol" in spec:
+        rtol = _positive(spec["rtol"], f'{where}: "rtol" (integrator tolerance)', span)
+    else:
+        rtol = None if any(signal in defaults for signal in signals) else DEFAULT_RTOL
     nominal = spec.get("nominal", {})
     if not isinstance(nominal, dict):
         raise DyadError(f'{where}: "nominal" must be an object of unknown: size', span)
     nominal = {k: _positive(v, f'{where}: nominal of "{k}"', span) for k, v in nominal.items()}
     return TestCase(model, name, stop, start, points, rtol, tuple(signals), atol, signal_rtol,
-                    nominal, final, span)
+                    nominal, final, span, initial_values, expect_initial, defaults)
+
+
+def _values(value: Any, what: str, kind: str, span: Span | None) -> dict[str, float]:
+    """An object of name: number (a JSON number or a string holding one)."""
+    if not isinstance(value, dict):
+        raise DyadError(f"{what} must be an object of name: value", span)
+    return {k: _number(v, f'{what}: {kind} of "{k}"', span) for k, v in value.items()}
 
 
 def _per_signal(value: Any, signals: Sequence[str], default: float | None, what: str,
-                span: Span | None) -> dict[str, float]:
+                span: Span | None) -> dict[str, float | None]:
+    """Per compared signal: the stated tolerance, else the "*" one, else `default` (None: not
+    stated, the caller applies Dyad's default)."""
     if value is None:
         value = {}
     if not isinstance(value, dict):
         value = {"*": value}
     fallback = value.get("*", default)
-    out: dict[str, float] = {}
+    out: dict[str, float | None] = {}
     for signal in signals:
         raw = value.get(signal, fallback)
-        if raw is None:
-            raise DyadError(f"{what} gives no tolerance for signal `{signal}`", span,
-                            hint='add it, or a "*" default')
-        out[signal] = _non_negative(raw, f"{what} of `{signal}`", span)
+        out[signal] = None if raw is None else _non_negative(raw, f"{what} of `{signal}`", span)
     stray = sorted(set(value) - set(signals) - {"*"})
     if stray:
         raise DyadError(f"{what} names signal(s) the case does not compare: {', '.join(stray)}", span)
@@ -164,9 +200,19 @@ def _per_signal(value: Any, signals: Sequence[str], default: float | None, what:
 
 
 def _number(value: Any, what: str, span: Span | None) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise DyadError(f"{what} must be a finite number, got {value!r}", span)
-    return float(value)
+    """A JSON number, or a string holding one (Dyad's libraries write both: "0.31784799")."""
+    number = None
+    if isinstance(value, str):
+        try:
+            number = float(value.strip())
+        except ValueError:
+            number = None
+    elif isinstance(value, (int, float)) and not isinstance(value, bool):
+        number = float(value)
+    if number is None or not math.isfinite(number):
+        raise DyadError(f"{what} must be a finite number (or a string holding one), got {value!r}",
+                        span)
+    return number
 
 
 def _positive(value: Any, what: str, span: Span | None) -> float:

@@ -55,18 +55,20 @@ class CaseReport:
     case: TestCase
     signals: list[SignalCheck] = field(default_factory=list)
     finals: list[SignalCheck] = field(default_factory=list)
+    initials: list[SignalCheck] = field(default_factory=list)      # expect.initial, at the start
     notes: list[str] = field(default_factory=list)
     error: str | None = None        # the case could not run (compile/simulate/golden file)
     seconds: float = 0.0
 
     @property
     def passed(self) -> bool:
-        return self.error is None and all(c.passed for c in self.signals + self.finals)
+        return self.error is None and all(c.passed for c in self.signals + self.initials + self.finals)
 
     def failures(self) -> list[str]:
         if self.error:
             return [self.error]
         out = [c.message(self.case.label) for c in self.signals if not c.passed]
+        out += [c.message(self.case.label + " (initial value)") for c in self.initials if not c.passed]
         out += [c.message(self.case.label + " (final value)") for c in self.finals if not c.passed]
         return out
 
@@ -77,10 +79,11 @@ class CaseReport:
             lines.append(f"  error: {self.error}")
             return "\n".join(lines)
         if verbose:
-            rows = self.signals + self.finals
-            width = max((len(c.name) for c in rows), default=6) + 8
+            rows = self.signals + self.initials + self.finals
+            width = max((len(c.name) for c in rows), default=6) + 10
             lines.append(f"  {'signal':<{width}} {'max ratio':>10}  {'at t':>8}  result")
-            for kind, checks in (("", self.signals), (" [final]", self.finals)):
+            for kind, checks in (("", self.signals), (" [initial]", self.initials),
+                                 (" [final]", self.finals)):
                 for c in checks:
                     at = "" if c.time is None else f"{c.time:8.4g}"
                     ratio = "-" if c.problem else f"{c.ratio:10.3g}"
@@ -188,13 +191,25 @@ def tube_check(name: str, time: np.ndarray, value: np.ndarray, expected: np.ndar
 
 
 def compare_finals(case: TestCase, time: np.ndarray, values: Mapping[str, np.ndarray]) -> list[SignalCheck]:
+    """`expect.final`: each value at the stop time, within its signal's tube."""
+    return _compare_at(case, case.final, -1, time, values)
+
+
+def compare_initials(case: TestCase, time: np.ndarray, values: Mapping[str, np.ndarray]) -> list[SignalCheck]:
+    """`expect.initial`: each value at the start time (after initialization), within its tube."""
+    return _compare_at(case, case.expect_initial, 0, time, values)
+
+
+def _compare_at(case: TestCase, expected_values: Mapping[str, float], index: int,
+                time: np.ndarray, values: Mapping[str, np.ndarray]) -> list[SignalCheck]:
     checks = []
-    for name, expected in case.final.items():
+    at = slice(index, None if index == -1 else index + 1)
+    for name, expected in expected_values.items():
         if name not in values:
             checks.append(SignalCheck(name, math.inf, problem="the model has no such signal"))
             continue
-        value = np.asarray(values[name], dtype=float)[-1:]
-        checks.append(tube_check(name, np.asarray(time, dtype=float)[-1:], value,
+        value = np.asarray(values[name], dtype=float)[at]
+        checks.append(tube_check(name, np.asarray(time, dtype=float)[at], value,
                                  np.array([expected]), *case.tube(name)))
     return checks
 

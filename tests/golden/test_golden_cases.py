@@ -166,8 +166,8 @@ def test_missing_golden_column_names_the_signal():
 
 
 @pytest.mark.parametrize("spec, words", [
-    ({"atol": {}}, "no tolerance for signal `a`"),
-    ({"stop": "12"}, '"stop" must be a finite number'),
+    ({"atol": {"a": "abc"}}, '"atol" of `a` must be a finite number'),
+    ({"stop": "twelve"}, '"stop" must be a finite number'),
     ({"rtol": 0}, "must be positive"),
     ({"atol": {"a": 1, "zz": 1}}, "does not compare: zz"),
     ({"colour": 1}, "unknown key(s) colour"),
@@ -181,7 +181,7 @@ def test_malformed_cases_are_located_errors(spec, words):
 
 def test_case_errors_point_at_the_case_key_in_the_source():
     text = Path(DECAY).read_text()
-    broken = text.replace('"atol": {"x": 1e-6, "y": 3e-6}', '"atol": {"x": 1e-6}')
+    broken = text.replace('"atol": {"x": 1e-6, "y": 3e-6}', '"atol": {"x": 1e-6, "y": "?"}')
     assert broken != text
     (definition,) = parse_source(broken, DECAY).definitions
     with pytest.raises(DyadError) as caught:
