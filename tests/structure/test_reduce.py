@@ -61,12 +61,13 @@ def test_inconsistent_initial_conditions_name_the_residuals():
         runtime.simulate(compile_flat(flat).model, 1.0, points=3)
 
 
-def test_missing_initial_condition_names_the_free_state():
+def test_missing_initial_condition_fixes_the_free_state_at_its_start_value():
+    # Under-determined initialization is normal in Dyad (issue 17 item 6): the free state is
+    # fixed at its start value (0 without one) and named for the note.
     x, u = S("x"), S("u")
     flat = build("Oscillator", [("x", STATE_CANDIDATE, None, 0), ("u", STATE_CANDIDATE, None, 0)], [("k", 4.0)],
                  [D("x") - u, D("u") + S("k") * x], initial=[x - 1])
-    with pytest.raises(DyadError, match="under-determined.*u"):
-        reduce(flat)
+    assert reduce(flat).initial.chosen == {"u": 0.0}
 
 
 def test_structurally_singular_system_names_the_culprits():
