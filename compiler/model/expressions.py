@@ -26,6 +26,8 @@ from sympy.logic.boolalg import BooleanAtom, BooleanFunction
 from compiler.errors import DyadError, Span
 from compiler.model.flat import TIME, der_name
 from compiler.model.functions import PI, FunctionCallError, as_array, is_array
+from compiler.model.julia_functions import MAX_CALL_DEPTH, JuliaFunction
+from compiler.model.size_limits import check_elements, check_shape, checked_power, range_length
 from compiler.syntax import ast
 
 if TYPE_CHECKING:
@@ -162,6 +164,8 @@ def structural_int(value: Any, span: Span | None, what: str = "an index") -> int
         return 1 if value else 0
     if is_array(value) or not getattr(value, "is_number", False):
         raise DyadError(f"{what} must be an integer known at compile time", span)
+    if value.is_Integer:            # exact, however large (float() of 10^400 overflows)
+        return int(value)
     number = float(value)
     if number != int(number):
         raise DyadError(f"{what} must be an integer, got {number:g}", span)
@@ -327,6 +331,7 @@ def _range(expr: ast.Range, scope: EvalScope, mode: Mode) -> Any:
         step = structural_int(evaluate(expr.step, scope, Mode.STRUCTURAL), expr.span, "a range step")
         if step == 0:
             raise DyadError("a range step cannot be zero", expr.span)
+    check_elements(range_length(start, stop, step), expr.span, "this range")
     return as_array([sympy.Integer(i) for i in range(start, stop + (1 if step > 0 else -1), step)])
 
 
@@ -432,7 +437,7 @@ def _arith(op: str, left: Any, right: Any, span: Span | None) -> Any:
         base = op[1:]
         if la and ra and left.shape != right.shape:
             raise _mismatch(op, left, right, span)
-        return _apply(base, left, right)
+        return _apply(base, left, right, span)
     if op in ("+", "-"):
         if la != ra:
             raise DyadError(f"cannot `{op}` a scalar and an array of shape "
@@ -455,11 +460,11 @@ def _arith(op: str, left: Any, right: Any, span: Span | None) -> Any:
     if op == "^":
         if la or ra:
             raise DyadError("`^` needs scalars; use `.^` for element-wise powers", span)
-        return left ** right
+        return checked_power(left, right, span)
     raise DyadError(f"unknown operator `{op}`", span)
 
 
-def _apply(op: str, left: Any, right: Any) -> Any:
+def _apply(op: str, left: Any, right: Any, span: Span | None = None) -> Any:
     if op == "+":
         return left + right
     if op == "-":
@@ -470,8 +475,8 @@ def _apply(op: str, left: Any, right: Any) -> Any:
         return left / right
     if op == "^":
         if is_array(left) or is_array(right):
-            return np.vectorize(lambda a, b: a ** b, otypes=[object])(left, right)
-        return left ** right
+            return np.vectorize(lambda a, b: checked_power(a, b, span), otypes=[object])(left, right)
+        return checked_power(left, right, span)
     raise ValueError(op)
 
 
@@ -543,19 +548,22 @@ def _stack(values: list[Any], span: Span | None) -> Any:
 
 
 def _comprehension(expr: ast.Comprehension, scope: EvalScope, mode: Mode) -> Any:
-    def expand(level: int, inner: EvalScope) -> Any:
+    def expand(level: int, inner: EvalScope, outer: int) -> Any:
         if level == len(expr.iterators):
             return _num(evaluate(expr.expr, inner, mode), expr.span)
         it = expr.iterators[level]
-        items = [expand(level + 1, inner.bind(**{it.variable: v}))
-                 for v in iteration_values(it.iterable, inner)]
+        values = iteration_values(it.iterable, inner)
+        # nested iterators multiply: each level's range may be small, their product not
+        check_elements(outer * len(values), expr.span, "this comprehension")
+        items = [expand(level + 1, inner.bind(**{it.variable: v}), outer * len(values))
+                 for v in values]
         return _stack(items, expr.span)
-    return expand(0, scope)
+    return expand(0, scope, 1)
 
 
 def _shape_args(args: tuple[ast.Expr, ...], scope: EvalScope, span: Span | None) -> tuple:
-    return tuple(structural_int(evaluate(a, scope, Mode.STRUCTURAL), span, "an array size")
-                 for a in args)
+    return check_shape(tuple(structural_int(evaluate(a, scope, Mode.STRUCTURAL), span, "an array size")
+                             for a in args), span, "this array")
 
 
 def _filled(value: Any, shape: tuple[int, ...]) -> np.ndarray:
@@ -620,6 +628,8 @@ def _call(expr: ast.Call, scope: EvalScope, mode: Mode) -> Any:
     lex = scope.lexical
     impl = lex.library.resolve_function(name, lex.package, lex.file, span)
     args = [_num(evaluate(a, scope, mode), span) for a in expr.args]
+    if isinstance(impl, JuliaFunction):
+        return _julia_call(impl, args, expr, scope, mode)
     kwargs = {k.name: _num(evaluate(k.value, scope, mode), span) for k in expr.kwargs}
     try:
         return impl(args, kwargs)
@@ -627,6 +637,44 @@ def _call(expr: ast.Call, scope: EvalScope, mode: Mode) -> Any:
         raise DyadError(str(exc), span) from exc
     except TypeError as exc:
         raise DyadError(f"bad arguments for `{name}`: {exc}", span) from exc
+
+
+_JULIA_DEPTH = " julia call depth"        # a binding key no Dyad name can spell
+
+
+def _julia_call(function: JuliaFunction, args: list, expr: ast.Call, scope: EvalScope,
+                mode: Mode) -> Any:
+    """Inline a function read from a package's Julia source: its body sees only its parameters
+    and its own earlier locals (checked when it was read), its calls resolve in its package."""
+    span = expr.span
+    if expr.kwargs:
+        raise DyadError(f"`{expr.function}` takes no keyword arguments", span)
+    if len(args) != len(function.parameters):
+        raise DyadError(f"`{expr.function}` takes {len(function.parameters)} argument(s), got "
+                        f"{len(args)}", span)
+    depth = scope.bindings.get(_JULIA_DEPTH, 0) + 1
+    if depth > MAX_CALL_DEPTH:
+        raise DyadError(f"`{expr.function}` calls itself more than {MAX_CALL_DEPTH} levels deep",
+                        span, hint="dyadc inlines Julia functions; recursion cannot be inlined")
+    package = function.name.rpartition(".")[0]
+    inner = EvalScope(_NoMembers(scope.node), Lexical(scope.lexical.library, package, None),
+                      scope.tracker, {**dict(zip(function.parameters, args)), _JULIA_DEPTH: depth})
+    for local, value in function.locals:
+        inner = inner.bind(**{local: evaluate(value, inner, mode)})
+    return evaluate(function.result, inner, mode)
+
+
+class _NoMembers:
+    """The scope node of a Julia function body: it sees no component members."""
+
+    def __init__(self, node: Node):
+        self.path = node.path
+
+    def member(self, name: str, mode: Mode, span: Span | None) -> Any:
+        return _NOT_FOUND
+
+    def member_names(self) -> list[str]:
+        return []
 
 
 _HANDLERS = {

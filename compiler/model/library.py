@@ -19,6 +19,8 @@ from typing import Callable, Sequence
 from compiler.errors import DyadError, Span, suggest_name
 from compiler.model.functions import ELEMENTARY, GLOBAL_REGISTRY, FunctionImpl, FunctionRegistry, \
     suggest_function
+from compiler.model.julia_functions import JuliaFunction, UnreadableFunction, julia_source_files, \
+    read_julia_functions
 from compiler.model.library_path import LIBRARY_PATH_VARIABLE, Root, describe, search_path
 from compiler.syntax import ast
 
@@ -66,6 +68,7 @@ class Library:
         self._found: dict[str, Resolved | None] = {}
         self._lookup_cache: dict[tuple[str, int, str], Resolved | None] = {}
         self.type_cache: dict[tuple, object] = {}     # used by compiler.model.instantiate
+        self._julia: dict[str, dict] = {}             # package folder -> its Julia functions
 
     # -------------------------------------------------------------------------------- files
 
@@ -204,7 +207,7 @@ class Library:
     # ---------------------------------------------------------------------------- functions
 
     def resolve_function(self, name: str, package: str, file: ast.File | None,
-                         span: Span | None) -> FunctionImpl:
+                         span: Span | None) -> FunctionImpl | JuliaFunction:
         if "." not in name and name in ELEMENTARY:
             return ELEMENTARY[name]
         candidates = self._candidates(name, package, file)
@@ -213,6 +216,15 @@ class Library:
             found = self.registry.get(candidate)
             if found is not None:
                 return found
+        found_julia = [self.julia_function(candidate) for candidate in candidates]
+        if file is not None and "." not in name:
+            # a file given by path from a project's dyad/ folder: its package's src/ is beside it
+            found_julia.append(self.julia_function_beside(Path(file.path), name))
+        for julia in found_julia:
+            if isinstance(julia, UnreadableFunction):
+                raise julia.error(span)
+            if julia is not None:
+                return julia
         skipped = [plugin for candidate in candidates for plugin in self._plugins_for(candidate, False)]
         if skipped:
             raise DyadError(f"unknown function `{name}`", span,
@@ -222,6 +234,31 @@ class Library:
         suggestion = suggest_function(name, self.registry)
         raise DyadError(f"unknown function `{name}`", span,
                         hint=f"did you mean `{suggestion}`?" if suggestion else None)
+
+    def julia_function(self, qualified_name: str) -> JuliaFunction | UnreadableFunction | None:
+        """A function `Pkg.name` that package `Pkg` defines in Julia (compiler.model.julia_functions);
+        the first root holding a folder `Pkg` decides, as for definitions."""
+        package, _, name = qualified_name.rpartition(".")
+        if not package or "." in package:
+            return None
+        folder = next((root / package for root in self.roots if (root / package).is_dir()), None)
+        return self._julia_functions(folder, package).get(qualified_name) if folder else None
+
+    def julia_function_beside(self, dyad_file: Path, name: str) -> JuliaFunction | UnreadableFunction | None:
+        """`name` defined in Julia by the project whose dyad/ folder holds `dyad_file`."""
+        folder = dyad_file.parent
+        package = folder.resolve().parent.name.removesuffix(".jl")
+        return self._julia_functions(folder, package).get(f"{package}.{name}")
+
+    def _julia_functions(self, folder: Path, package: str) -> dict:
+        key = str(folder.resolve())
+        if key not in self._julia:
+            functions: dict = {}
+            for path in julia_source_files(folder):
+                for qualified, value in read_julia_functions(path, package).items():
+                    functions.setdefault(qualified, value)
+            self._julia[key] = functions
+        return self._julia[key]
 
     def _plugins_for(self, qualified_name: str, runs_code: bool) -> list[Path]:
         """The plugin files for the package of `qualified_name` in the roots that may (or may
