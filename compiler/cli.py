@@ -126,6 +126,8 @@ def build_parser() -> argparse.ArgumentParser:
                    help="an existing Dask scheduler, e.g. tcp://host:8786 (default $DASK_SCHEDULER_ADDRESS, "
                         "else a local cluster)")
     p.add_argument("--workers", type=int, metavar="N", help="local cluster size (default: one per core)")
+    p.add_argument("--recompile", action="store_true",
+                   help="allow structural parameters (array sizes, branches): compile once per distinct value")
     p.add_argument("--batch-size", type=int, metavar="N", help="samples per Dask task (default: sized "
                                                                "so task overhead stays under 10%%)")
     p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,

@@ -20,6 +20,7 @@ from compiler.model.expressions import CONDITION_TYPES, NOT_FOUND, EvalScope, Le
     is_array, shape_of, structural_bool, structural_int, iteration_values, _num
 from compiler.model.flat import der_name
 from compiler.model.library import PRIMITIVE_TYPES, Library, Resolved
+from compiler.model.size_limits import check_elements, check_shape
 from compiler.syntax import ast
 
 VARIABLE_ATTRIBUTES = ("initial", "guess", "start", "units", "min", "max", "state_priority",
@@ -254,9 +255,10 @@ class ParameterInstance:
 
     def shape(self) -> tuple[int, ...]:
         if self._shape is None:
-            self._shape = tuple(
+            self._shape = check_shape(tuple(
                 structural_int(evaluate(d, self.node.scope(lex), Mode.STRUCTURAL), d.span,
-                               "an array size") for d, lex in self.type.dims)
+                               "an array size") for d, lex in self.type.dims),
+                self.decl.span, f"the array `{self.path}`")
         return self._shape
 
     def symbols(self) -> Any:
@@ -434,8 +436,9 @@ class VariableInstance:
         self.doc = doc
         self.type = resolve_value_type(type_spec, lexical)
         own_scope = node.scope(lexical)
-        self.shape = tuple(structural_int(evaluate(d, node.scope(lex), Mode.STRUCTURAL), d.span,
-                                          "an array size") for d, lex in self.type.dims)
+        self.shape = check_shape(tuple(structural_int(evaluate(d, node.scope(lex), Mode.STRUCTURAL),
+                                                      d.span, "an array size") for d, lex in self.type.dims),
+                                 getattr(decl, "span", None), f"the array `{self.path}`")
         self.symbols = symbols_for(self.path, self.shape)
         self.names = element_names(self.path, self.shape)
         valued = [e for e in entries if e.mod.value is not None]
@@ -475,6 +478,7 @@ class Instance:
         self.variables: dict[str, VariableInstance] = {}
         self.children: dict[str, Any] = {}          # Instance or np.ndarray of Instances
         self.disabled: dict[str, Span | None] = {}
+        self.path_fields: dict[str, Span | None] = {}   # `path` fields of a connector
         self.relations: list[tuple[ast.Relation, EvalScope]] = []
         self._scopes: dict[int, EvalScope] = {}
 
@@ -505,6 +509,13 @@ class Instance:
         if name in self.disabled:
             raise DyadError(f"`{join_path(self.path, name)}` is disabled by its condition", span,
                             notes=[Note("declared here", self.disabled[name])])
+        if name in self.path_fields:
+            raise DyadError(f"`{join_path(self.path, name)}` is a `path` field: its value (e.g. a "
+                            f"medium defined in Julia) is carried along connections but dyadc "
+                            f"cannot compute with it", span,
+                            notes=[Note("declared here", self.path_fields[name])],
+                            hint="functions of a medium (density, viscosity, ...) need Dyad's "
+                                 "Julia runtime")
         return NOT_FOUND
 
     def member_names(self) -> list[str]:
@@ -581,13 +592,14 @@ class Model:
         return result
 
 
-def instantiate(resolved: Resolved, library: Library) -> Model:
-    """Instantiate a top-level component: the whole tree, with parameters still lazy."""
+def instantiate(resolved: Resolved, library: Library, outer: tuple[BoundMod, ...] = ()) -> Model:
+    """Instantiate a top-level component: the whole tree, with parameters still lazy. `outer`:
+    modifiers applied as if written where the component is used (a sweep's structural values)."""
     if not isinstance(resolved.definition, ast.ComponentDef):
         raise DyadError(f"`{resolved.qualified_name}` is not a component",
                         resolved.definition.span)
     model = Model(library)
-    model.root = _instantiate(model, resolved, "", None, [], resolved.definition.span)
+    model.root = _instantiate(model, resolved, "", None, list(outer), resolved.definition.span)
     return model
 
 
@@ -678,9 +690,12 @@ def _add_component(node: Instance, element: ElementTemplate, entries: list[Bound
     scope = own_scope
     for iterator in decl.iterators:
         ranges.append(iteration_values(iterator.iterable, scope))
-    shape = tuple(len(r) for r in ranges)
+    shape = check_shape(tuple(len(r) for r in ranges), decl.span, f"the component array `{decl.name}`")
     array = np.empty(shape, dtype=object)
-    for index in np.ndindex(*shape):
+    for number, index in enumerate(np.ndindex(*shape)):
+        if number == 1:         # one element built: the whole array is about `count` times its size
+            check_elements(array.size * _scalar_count(array[(0,) * len(shape)]), decl.span,
+                           f"the component array `{decl.name}` ({array.size:,} x {resolved.qualified_name})")
         bound = own_scope.bind(**{it.variable: ranges[k][index[k]]
                                   for k, it in enumerate(decl.iterators)})
         own = [BoundMod(normalize(m), bound) for m in decl.modifications]
@@ -688,6 +703,12 @@ def _add_component(node: Instance, element: ElementTemplate, entries: list[Bound
         array[index] = _instantiate(model, resolved, join_path(node.path, name), node,
                                     child_mods + own, decl.span)
     node.children[decl.name] = array
+
+
+def _scalar_count(instance: Instance) -> int:
+    """Scalar parameters, unknowns and instances of an instance and everything in it."""
+    return sum(1 + sum(len(p.flat_names()) if p._shape is not None else 1 for p in node.parameters.values())
+               + sum(len(v.names) for v in node.variables.values()) for node in instance.walk())
 
 
 def check_not_recursive(node: Instance, resolved: Resolved, decl: ast.ComponentDecl) -> None:
@@ -739,8 +760,14 @@ def _fill_connector(node: Instance, definition: ast.ConnectorDef, resolved: Reso
                             entries[0].mod.span, hint=suggest_name(name, names))
     for fld in definition.fields:
         check_not_reserved(fld.name, fld.span)
-        if fld.kind in ("stream", "path"):
-            raise DyadError(f"`{fld.kind}` connector fields are not supported yet", fld.span)
+        if fld.kind == "path":
+            # A path field carries a value of the whole connected path (a fluid medium, a Julia
+            # `Native` object) that is neither an unknown nor an equation: it is recorded, and
+            # reading it in an expression is an error (see Instance.member).
+            node.path_fields[fld.name] = fld.span
+            continue
+        if fld.kind == "stream":
+            raise DyadError("`stream` connector fields are not supported yet", fld.span)
         signal = fld.kind in ("input", "output")
         variable = VariableInstance(
             node, fld.name, fld, fld.type, lexical, by_name.get(fld.name, []),

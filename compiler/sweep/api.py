@@ -8,15 +8,20 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Callable, Mapping, Sequence
 
-from compiler.errors import DyadError, Note
+from compiler.errors import DyadError
 from compiler.runtime import CompiledModel, did_you_mean
 from compiler.sweep.design import Design, as_design
-from compiler.sweep.engine import require_dask, run_dask, run_serial
+from compiler.sweep.engine import LostWorkers, require_dask, run_dask, run_serial
 from compiler.sweep.interrupt import DeferredInterrupt
 from compiler.sweep.metrics import Metric, parse_metrics
 from compiler.sweep.progress import SweepProgress
 from compiler.sweep.result import SweepResult
-from compiler.sweep.worker import Job, ModelPayload, Outcome
+from compiler.sweep.prepare import Prepared, check_parameters, prepare
+from compiler.sweep.recompile import describe
+from compiler.sweep.worker import Job, Outcome
+from compiler.sweep.writers import sibling
+
+__all__ = ["SweepInterrupted", "SweepOptions", "check_parameters", "sweep"]
 
 
 @dataclass
@@ -36,6 +41,8 @@ class SweepOptions:
     batch_size: int | None = None              # default: sized from a pilot run
     progress: bool | None = None               # default: a bar on stderr when it is a terminal
     partial_output: str | os.PathLike | None = None   # where finished samples go on Ctrl-C
+    recompile: bool = False                    # structural parameters: compile once per value
+    lost_worker_timeout: float = 60.0          # seconds a cluster may be without any worker
     on_sample: Callable[[Outcome], None] | None = None
 
 
@@ -63,17 +70,14 @@ def sweep(model, grid_or_samples, options: SweepOptions | Mapping, scheduler: st
                             "calls it is being re-imported by the worker",
                             hint="put the call under `if __name__ == \"__main__\":` (worker processes "
                                  "are spawned and import the main script), or use serial=True")
-    compiled, flat_parameters = _compile(model, options.lib_dirs)
     design = as_design(grid_or_samples)
     fixed = {**design.fixed, **{k: float(v) for k, v in options.params.items()}}
     design = replace(design, fixed=fixed)
-    check_parameters(compiled, list(design.names) + [n for n in fixed if n not in design.names],
-                     flat_parameters)
-    job = _job(compiled, options)
-    samples = [(i, design.sample(i)) for i in range(len(design))]
-    payload = ModelPayload.of(compiled)
+    prepared = prepare(model, design, options.lib_dirs, options.recompile)
+    compiled = prepared.model
+    job = _job(prepared, options)
     outcomes: dict[int, Outcome] = {}
-    bar = SweepProgress(len(samples), options.progress)
+    bar = SweepProgress(len(design), options.progress)
 
     interrupt = DeferredInterrupt()
 
@@ -88,79 +92,66 @@ def sweep(model, grid_or_samples, options: SweepOptions | Mapping, scheduler: st
     try:
         with interrupt:
             if options.serial:
-                stats = run_serial(payload, job, samples, report)
+                stats = run_serial(prepared.parts, job, report)
             else:
-                stats = run_dask(payload, job, samples, report, scheduler=scheduler,
-                                 workers=options.workers, batch=options.batch_size, poll=interrupt.check)
+                stats = run_dask(prepared.parts, job, report, scheduler=scheduler,
+                                 workers=options.workers, batch=options.batch_size, poll=interrupt.check,
+                                 lost_after=options.lost_worker_timeout)
     except KeyboardInterrupt:
         bar.close()
-        partial = SweepResult(compiled.name, design, job, outcomes, complete=False)
-        path = None
-        if options.partial_output is not None and outcomes:
-            path = Path(options.partial_output)
-            partial.write(path)
+        partial, path = _keep_partial(compiled, design, job, outcomes, options)
         raise SweepInterrupted(partial, path) from None
+    except LostWorkers as lost:
+        bar.close()
+        partial, path = _keep_partial(compiled, design, job, outcomes, options)
+        missing = [i for i in range(len(design)) if i not in outcomes]
+        kept = (f"; the {len(outcomes)} finished samples are in {path} and {sibling(path, 'samples')}"
+                if path else "")
+        raise DyadError(f"the sweep lost its workers: {lost}, and {len(missing)} samples did not "
+                        f"finish ({_ranges(missing)}){kept}",
+                        hint="restart the workers (a `dask worker` started with a nanny is restarted "
+                             "when it dies) and run the sweep again") from None
     bar.close()
+    stats["compiled_models"] = prepared.compiled
     return SweepResult(compiled.name, design, job, outcomes, complete=True, stats=stats)
 
 
-def _compile(model, lib_dirs: Sequence[str]) -> tuple[CompiledModel, dict]:
-    """The compiled model and the flat parameters (name -> Parameter) when the source is known."""
-    if isinstance(model, CompiledModel):
-        return model, {}
-    if isinstance(model, str):
-        from compiler.pipeline import compile_spec
-        model = compile_spec(model, lib_dirs)
-    if not hasattr(model, "model") or not hasattr(model, "flat"):
-        raise DyadError(f"cannot sweep a {type(model).__name__}",
-                        hint="pass a MODEL spec, a Compilation (compiler.api.compile) or a CompiledModel")
-    if model.dynamic:
-        raise DyadError(f"cannot sweep {model.model.name} yet: its state set switches during the run "
-                        "(dynamic state selection), and a sweep ships one compiled model with one "
-                        "state set to its workers",
-                        hint="simulate such a model case by case with `dyadc simulate -p NAME=VALUE`")
-    return model.model, {p.name: p for p in model.flat.parameters}
+def _keep_partial(compiled: CompiledModel, design: Design, job: Job, outcomes: dict,
+                  options: SweepOptions) -> tuple[SweepResult, Path | None]:
+    """The finished samples, written to options.partial_output when there are any."""
+    partial = SweepResult(compiled.name, design, job, outcomes, complete=False)
+    path = None
+    if options.partial_output is not None and outcomes:
+        path = Path(options.partial_output)
+        partial.write(path)
+    return partial, path
 
 
-def check_parameters(model: CompiledModel, names: Sequence[str], flat_parameters: Mapping) -> None:
-    """Refuse, naming them all, parameters that a compiled model cannot take as run-time inputs."""
-    tunable = dict(zip(model.parameter_names, model.parameter_tunable))
-    problems, notes = [], []
-    for name in names:
-        if tunable.get(name):
-            continue
-        declared = flat_parameters.get(name)
-        span = getattr(getattr(declared, "origin", None), "span", None)
-        if declared is not None and declared.variability == "structural":
-            problems.append(f"`{name}` is a structural parameter (it fixes array sizes or branches "
-                            "and is compiled into the model)")
-        elif name in tunable or (declared is not None and not declared.tunable):
-            kind = declared.variability if declared is not None else "final"
-            kind = "final" if kind == "parameter" else kind
-            problems.append(f"`{name}` is {kind} and cannot be changed")
-        elif declared is not None:
-            problems.append(f"`{name}` does not enter the compiled model (nothing it simulates depends "
-                            "on it), so sweeping it would change nothing")
+def _ranges(samples: list[int]) -> str:
+    """[3, 4, 5, 9] -> 'samples 3-5, 9'."""
+    spans: list[list[int]] = []
+    for s in samples:
+        if spans and s == spans[-1][1] + 1:
+            spans[-1][1] = s
         else:
-            problems.append(f"`{name}` is not a parameter of {model.name}"
-                            + did_you_mean(name, model.parameter_names))
-            continue
-        if span is not None:
-            notes.append(Note(f"`{name}` is declared here", span))
-    if problems:
-        raise DyadError("cannot sweep: " + "; ".join(problems), notes=notes,
-                        hint="a sweep compiles the model once and changes only tunable parameters; "
-                             "`dyadc inspect MODEL` lists them")
+            spans.append([s, s])
+    text = ", ".join(f"{a}-{b}" if b > a else f"{a}" for a, b in spans[:20])
+    return ("sample " if len(samples) == 1 else "samples ") + text + (", ..." if len(spans) > 20 else "")
 
 
-def _job(model: CompiledModel, options: SweepOptions) -> Job:
+def _job(prepared: Prepared, options: SweepOptions) -> Job:
+    model = prepared.model
     variables = tuple(options.variables) if options.variables is not None else tuple(model.state_names)
-    known = set(model.output_names) | {"time"}
     metrics: list[Metric] = parse_metrics(list(options.metrics))
-    for name in list(variables) + [n for m in metrics for n in m.names]:
-        if name not in known:
-            raise DyadError(f"`{name}` is not a signal of {model.name}"
-                            + did_you_mean(name, model.output_names))
+    for (payload, _), case in zip(prepared.parts, prepared.cases):
+        # a switching model reports its public names (its variants output internal ones too)
+        outputs = list(payload.public_names or payload.data["output_names"])
+        known = set(outputs) | {"time"}
+        for name in list(variables) + [n for m in metrics for n in m.names]:
+            if name not in known:
+                where = f" compiled with {describe(case)}" if case else ""
+                raise DyadError(f"`{name}` is not a signal of {model.name}{where}"
+                                + did_you_mean(name, outputs))
     return Job(float(options.stop), float(options.start), float(options.rtol), float(options.atol),
                int(options.points), tuple(float(t) for t in options.saveat) if options.saveat is not None
                else None, tuple(v for v in variables if v != "time"), tuple(metrics))

@@ -32,7 +32,7 @@ def main_sweep(args) -> int:
                            points=args.points, variables=args.vars, metrics=args.metrics,
                            lib_dirs=args.lib, serial=args.serial, workers=args.workers,
                            batch_size=args.batch_size, progress=args.progress,
-                           partial_output=partial)
+                           partial_output=partial, recompile=args.recompile)
     try:
         result = sweep(args.model, design, options, scheduler=args.scheduler)
     except SweepInterrupted as stop:
@@ -45,7 +45,9 @@ def main_sweep(args) -> int:
     stats = result.stats
     engine = (f"{stats.get('workers')} Dask workers ({stats.get('scheduler')}), "
               f"{stats.get('batch_size')} samples per task" if stats.get("engine") == "dask" else "serial")
-    print(f"ran on {engine}", file=sys.stderr)
+    models = stats.get("compiled_models", 1)
+    print(f"ran on {engine}" + (f", {models} compiled models (--recompile)" if models > 1 else ""),
+          file=sys.stderr)
     if args.output:
         trajectories, samples = result.write(args.output)
         print(f"wrote {trajectories} and {samples}", file=sys.stderr)

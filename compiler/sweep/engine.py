@@ -26,15 +26,19 @@ from compiler.sweep.worker import Job, ModelPayload, Outcome, load_model, run_ba
 # measures it; a few ms on 2 cores). Batches are sized so that this stays under OVERHEAD_SHARE.
 TASK_OVERHEAD_S = 0.02
 OVERHEAD_SHARE = 0.1
+# A cluster with no worker at all for this long (nothing restarted one) ends the sweep.
+LOST_AFTER_S = 60.0
 
 Sample = tuple[int, dict[str, float]]
+Part = tuple[ModelPayload, Sequence[Sample]]      # samples that run on one compiled model
 Report = Callable[[Outcome], None]
 
 
-def run_serial(payload: ModelPayload, job: Job, samples: Sequence[Sample], report: Report) -> dict:
-    model = load_model(payload)
-    for sample, params in samples:
-        report(run_sample(model, job, sample, params))
+def run_serial(parts: Sequence[Part], job: Job, report: Report) -> dict:
+    for payload, samples in parts:
+        model = load_model(payload)
+        for sample, params in samples:
+            report(run_sample(model, job, sample, params))
     return {"engine": "serial", "workers": 1, "batch_size": 1}
 
 
@@ -53,45 +57,52 @@ def default_workers() -> int:
         return max(1, os.cpu_count() or 1)
 
 
-def run_dask(payload: ModelPayload, job: Job, samples: Sequence[Sample], report: Report, *,
+def run_dask(parts: Sequence[Part], job: Job, report: Report, *,
              scheduler: str | None = None, workers: int | None = None,
-             batch: int | None = None, poll: Callable[[], None] = lambda: None) -> dict:
-    """`poll` is called while waiting for results (it raises KeyboardInterrupt on Ctrl-C)."""
-    samples = list(samples)
-    if not samples:
+             batch: int | None = None, poll: Callable[[], None] = lambda: None,
+             lost_after: float = LOST_AFTER_S) -> dict:
+    """`poll` is called while waiting for results (it raises KeyboardInterrupt on Ctrl-C).
+    `lost_after`: how long the sweep waits for a cluster that has lost all its workers."""
+    parts = [(payload, list(samples)) for payload, samples in parts if samples]
+    if not parts:
         return {"engine": "dask", "workers": 0, "batch_size": 0}
-    # The pilot (sample 0) runs here: it sizes the batches and surfaces a bad request at once.
-    pilot = run_sample(load_model(payload), job, *samples[0])
+    # The pilot (the first sample) runs here: it sizes the batches and surfaces a bad request at once.
+    pilot = run_sample(load_model(parts[0][0]), job, *parts[0][1][0])
     report(pilot)
-    rest = samples[1:]
+    parts[0] = (parts[0][0], parts[0][1][1:])
+    left = sum(len(samples) for _, samples in parts)
     began = time.perf_counter()
     with dask_client(scheduler, workers) as client:
         n_workers = max(1, len(client.scheduler_info().get("workers", {})))
-        size = batch or batch_size(pilot.seconds, len(rest), n_workers)
+        size = batch or batch_size(pilot.seconds, left, n_workers)
         stats = {"engine": "dask", "workers": n_workers, "batch_size": size,
                  "scheduler": scheduler or "LocalCluster", "pilot_seconds": pilot.seconds,
                  "connect_seconds": time.perf_counter() - began}
         began = time.perf_counter()
-        if rest:
-            _run_batches(client, payload, job, [rest[i:i + size] for i in range(0, len(rest), size)],
-                         report, poll)
+        if left:
+            _run_batches(client, parts, job, size, report, poll, lost_after)
         stats["run_seconds"] = time.perf_counter() - began
     return stats
 
 
-def _run_batches(client, payload: ModelPayload, job: Job, batches: list[list[Sample]],
-                 report: Report, poll: Callable[[], None]) -> None:
+def _run_batches(client, parts: Sequence[Part], job: Job, size: int, report: Report,
+                 poll: Callable[[], None], lost_after: float) -> None:
     from distributed import as_completed
-    model = client.scatter(payload, broadcast=True, hash=False)
     token = uuid.uuid4().hex[:8]
-    futures = []
-    batch_of = {}
-    for i, batch in enumerate(batches):
-        future = client.submit(run_batch, model, job, batch, key=f"dyadc-sweep-{token}-{i}", pure=False)
-        futures.append(future)
-        batch_of[future.key] = batch
+    models, futures, batch_of = [], [], {}
+    for payload, samples in parts:
+        if not samples:
+            continue
+        model = client.scatter(payload, broadcast=True, hash=False)
+        models.append(model)
+        for i in range(0, len(samples), size):
+            batch = samples[i:i + size]
+            future = client.submit(run_batch, model, job, batch, pure=False,
+                                   key=f"dyadc-sweep-{token}-{len(futures)}")
+            futures.append(future)
+            batch_of[future.key] = batch
     try:
-        for future in _completed(as_completed(futures), poll):
+        for future in _completed(as_completed(futures), _watching_workers(client, poll, lost_after)):
             try:
                 outcomes = future.result()
             except (ImportError, AttributeError) as err:
@@ -104,10 +115,40 @@ def _run_batches(client, payload: ModelPayload, job: Job, batches: list[list[Sam
             for outcome in outcomes:
                 report(outcome)
     except BaseException:
-        client.cancel(futures + [model], force=True)
+        client.cancel(futures + models, force=True)
         raise
     finally:
-        model.release()
+        for model in models:
+            model.release()
+
+
+def _watching_workers(client, poll: Callable[[], None], lost_after: float) -> Callable[[], None]:
+    """`poll`, and a look (once a second) at whether the cluster still has workers: one that has
+    had none for `lost_after` seconds (nothing restarted them) ends the sweep, instead of waiting
+    for ever."""
+    seen = time.monotonic()
+    next_look = seen + 1.0
+
+    def check() -> None:
+        nonlocal seen, next_look
+        poll()
+        now = time.monotonic()
+        if now < next_look:
+            return
+        next_look = now + 1.0
+        if client.scheduler_info().get("workers"):
+            seen = now
+        elif now - seen > lost_after:
+            raise LostWorkers(now - seen)
+    return check
+
+
+class LostWorkers(Exception):
+    """The cluster has had no worker for `waited` seconds; the samples it had not finished are lost."""
+
+    def __init__(self, waited: float):
+        super().__init__(f"the Dask cluster has had no worker for {waited:.0f} s")
+        self.waited = waited
 
 
 def _completed(pending, poll: Callable[[], None], interval: float = 0.05) -> Iterator:
