@@ -99,6 +99,9 @@ def build_parser() -> argparse.ArgumentParser:
                         "$DYADC_MAX_OUTPUT_VALUES or 10000000)")
     p.set_defaults(run=_cmd_simulate)
 
+    from compiler.analysis.command import add_run_parser     # `dyadc run ANALYSIS`
+    add_run_parser(sub, LIB_HELP)
+
     p = sub.add_parser("sweep", help="run a model over a grid or random samples of its parameters "
                                      "(Dask or --serial); see docs/sweeps.md")
     _add_model(p)

@@ -42,7 +42,7 @@ def run_parameter_values(compilation, params: Mapping | None) -> dict[str, float
             values[info.name] = float(params[info.name])
         elif info.binding is not None:
             import sympy
-            bound = info.binding.xreplace({sympy.Symbol(k): v for k, v in values.items()})
+            bound = sympy.sympify(info.binding.xreplace({sympy.Symbol(k): v for k, v in values.items()}))
             values[info.name] = float(bound) if bound.is_number else float(info.value)
         else:
             values[info.name] = float(info.value)
