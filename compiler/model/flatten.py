@@ -18,6 +18,7 @@ from compiler.model.flat import ALGEBRAIC, INPUT, OUTPUT, STATE_CANDIDATE, Equat
 from compiler.model.flatten_connect import ConnectionGraph, connection_equations
 from compiler.model.flatten_report import format_flat, summarize  # noqa: F401  (public API)
 from compiler.model.instantiate import Instance, Model, ParameterInstance, VariableInstance, instantiate
+from compiler.model.size_limits import check_elements
 from compiler.model.library import Library, Resolved, load_model, resolve_model  # noqa: F401
 from compiler.syntax import ast
 
@@ -124,19 +125,24 @@ class Flattener:
                     return
             for inner in relation.otherwise:
                 self._relation(inner, scope)
+        elif isinstance(relation, ast.Continuity):
+            pass        # relates `path` fields (a medium along a fluid path); implies no equation
         else:
             raise DyadError(f"unsupported relation {type(relation).__name__}",
                             getattr(relation, "span", None))
 
     def _for_loop(self, iterators: tuple[ast.Iterator, ...], body: tuple[ast.Relation, ...],
-                  scope: EvalScope) -> None:
+                  scope: EvalScope, outer: int = 1) -> None:
         if not iterators:
             for inner in body:
                 self._relation(inner, scope)
             return
         first, rest = iterators[0], iterators[1:]
-        for value in iteration_values(first.iterable, scope):
-            self._for_loop(rest, body, scope.bind(**{first.variable: value}))
+        values = iteration_values(first.iterable, scope)
+        # nested loops multiply: each range may be small, the unrolled body not
+        check_elements(outer * len(values) * len(body), first.span, "this `for` loop")
+        for value in values:
+            self._for_loop(rest, body, scope.bind(**{first.variable: value}), outer * len(values))
 
     def _equation(self, relation: ast.Equation, scope: EvalScope) -> None:
         span = relation.span

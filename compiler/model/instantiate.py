@@ -192,6 +192,11 @@ def _resolve_value_type(spec: ast.TypeSpec, lexical: Lexical, depth: int = 0) ->
     own_dims = [(d, lexical) for d in spec.dims]
     if spec.name in PRIMITIVE_TYPES:
         return TypeInfo(spec.name, own_attrs, own_dims, spec.name)
+    if spec.name in ("Native", "Dyad.Native"):
+        raise DyadError("a `Native` value is a Julia object (a dataset, a medium, an "
+                        "interpolator) that dyadc cannot represent", spec.span,
+                        hint="only `path` connector fields may hold Native values in dyadc; a "
+                             "parameter or variable of this type needs Dyad's Julia runtime")
     found = lexical.library.resolve(spec.name, lexical.package, lexical.file, spec.span)
     definition = found.definition
     if isinstance(definition, ast.TypeDef):

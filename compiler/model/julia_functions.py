@@ -78,6 +78,12 @@ def read_julia_functions(path: Path, package: str) -> dict[str, JuliaFunction | 
     for name, head, body, offset in _top_level_functions(text):
         line = text.count("\n", 0, offset) + 1
         qualified = f"{package}.{name}"
+        if qualified in out:
+            first = out[qualified].line
+            out[qualified] = UnreadableFunction(
+                qualified, f"it has several methods (lines {first} and {line}); Julia chooses one "
+                           f"by the types of the arguments when the model runs", str(path), first)
+            continue
         try:
             out[qualified] = _read_function(qualified, head, body, text, offset, str(path), line)
         except _Unreadable as exc:

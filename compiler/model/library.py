@@ -137,10 +137,13 @@ class Library:
         header = re.compile(rf"(?<![\w.]){_DEFINITION_KEYWORDS}\s+{re.escape(name)}(?![\w])")
         for root in self.roots:
             folder = root.joinpath(*package_parts)
-            if not folder.is_dir():
-                continue
             named = folder / f"{name}.dyad"
-            candidates = [named] if named.is_file() else []
+            try:
+                if not folder.is_dir():
+                    continue
+                candidates = [named] if named.is_file() else []
+            except OSError:         # a part longer than a file name may be (ENAMETOOLONG) names no file
+                continue
             candidates += [p for p in sorted(folder.glob("*.dyad"))
                            if p != named and header.search(self._text(p.resolve()))]
             for path in candidates:
@@ -236,13 +239,17 @@ class Library:
                         hint=f"did you mean `{suggestion}`?" if suggestion else None)
 
     def julia_function(self, qualified_name: str) -> JuliaFunction | UnreadableFunction | None:
-        """A function `Pkg.name` that package `Pkg` defines in Julia (compiler.model.julia_functions);
-        the first root holding a folder `Pkg` decides, as for definitions."""
+        """A function `Pkg.name` that package `Pkg` defines in Julia (compiler.model.julia_functions),
+        from the first root whose folder `Pkg` defines it, as for definitions."""
         package, _, name = qualified_name.rpartition(".")
         if not package or "." in package:
             return None
-        folder = next((root / package for root in self.roots if (root / package).is_dir()), None)
-        return self._julia_functions(folder, package).get(qualified_name) if folder else None
+        for root in self.roots:
+            if (root / package).is_dir():
+                found = self._julia_functions(root / package, package).get(qualified_name)
+                if found is not None:
+                    return found
+        return None
 
     def julia_function_beside(self, dyad_file: Path, name: str) -> JuliaFunction | UnreadableFunction | None:
         """`name` defined in Julia by the project whose dyad/ folder holds `dyad_file`."""
