@@ -43,6 +43,53 @@ def max_output_values(option: int | None) -> int:
     return value
 
 
+def check_arguments(argv: list[str]) -> None:
+    """No argument holds a NUL byte: no file name, name or number can (a shell cannot even pass
+    one; a caller of compiler.cli.main can)."""
+    for position, argument in enumerate(argv, 1):
+        if "\x00" in argument:
+            shown = argument.replace("\x00", "\\0")
+            raise DyadError(f"argument {position} `{shown[:80]}` contains a NUL byte (\\0), which no "
+                            f"file name, model name or value may contain")
+
+
+# The longest name of one file or folder (bytes) and of a whole path that Linux and macOS accept.
+NAME_MAX = 255
+PATH_MAX = 4096
+
+
+def check_path(option: str, path: str) -> None:
+    """`path` can name a file at all: no part longer than NAME_MAX bytes, in all at most PATH_MAX
+    (else every use of it fails with ENAMETOOLONG)."""
+    encoded = path.encode("utf-8", "surrogatepass")
+    if len(encoded) >= PATH_MAX:
+        raise DyadError(f"{option} `{path[:60]}...` is {len(encoded):,} bytes long, longer than a path "
+                        f"may be ({PATH_MAX - 1:,} bytes)")
+    for part in encoded.split(b"/"):
+        if len(part) > NAME_MAX:
+            name = os.fsdecode(part)
+            raise DyadError(f"{option} `{path if len(path) <= 80 else path[:60] + '...'}`: the name "
+                            f"`{name[:40]}...` is {len(part)} bytes long, longer than a file or folder "
+                            f"name may be ({NAME_MAX} bytes)", hint="use a shorter name")
+
+
+# The arguments of `dyadc` commands that name files or folders, by attribute.
+_PATH_OPTIONS = {"file": "FILE", "output": "--output", "plot": "--plot", "output_dir": "-o",
+                 "golden": "--golden", "lib": "-L"}
+
+
+def check_paths(args) -> None:
+    """Every file or folder named on the command line (MODEL too, when it is a path) can exist."""
+    for attribute, option in _PATH_OPTIONS.items():
+        value = getattr(args, attribute, None)
+        for path in (value if isinstance(value, list) else [value]):
+            if isinstance(path, str):
+                check_path(option, path)
+    model = getattr(args, "model", None)
+    if isinstance(model, str) and (os.sep in model or ".dyad" in model):
+        check_path("MODEL", model.partition(".dyad:")[0] + ".dyad" if ".dyad:" in model else model)
+
+
 def check_finite(option: str, value: float) -> None:
     if not math.isfinite(value):
         raise DyadError(f"{option} must be a finite number, got {value}")

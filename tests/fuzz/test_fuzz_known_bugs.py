@@ -1,6 +1,9 @@
-"""Reproducers of the bugs the fuzzer found (issue 19), each the smallest input found, each a strict
-xfail naming the bug: it passes, and so fails the suite, once the bug is fixed. Then remove the
-mark here and the bug's entry in known_bugs.py, so that the fuzzer covers the input again.
+"""Reproducers of the bugs the fuzzer found (issue 19), each the smallest input found.
+
+A bug not fixed yet is a strict xfail (`@_bug(name, what)`) with an entry of the same name in
+known_bugs.py: it passes, and so fails the suite, once the bug is fixed; then remove the mark here
+and the entry there, so that the fuzzer covers the input again. Every test below is such a
+reproducer whose bug is fixed: it now checks the clear error that replaced the bug.
 
 Hangs are bounded: in a fresh process killed after SUBPROCESS_HANG_LIMIT_S when the hang is in
 C calls that an alarm cannot interrupt (a dyadc process starts in about 1.5 s), else in process by
@@ -8,15 +11,18 @@ an alarm after HANG_LIMIT_S. A fixed dyadc answers these one-line changes in wel
 """
 from __future__ import annotations
 
+import re
+
 import pytest
 
 from tests.fuzz.examples import example_dir, write_seed
-from tests.fuzz.harness import problems, run_in_process, run_in_subprocess
+from tests.fuzz.harness import is_located, problems, run_in_process, run_in_subprocess
 from tests.fuzz.known_bugs import known_bug
 from tests.fuzz.seeds import OSCILLATOR
 
 HANG_LIMIT_S = 4.0
 SUBPROCESS_HANG_LIMIT_S = 6.0
+LIMIT = "more than the limit of 1,000,000"
 
 
 def _oscillator_with(work, old: str, new: str) -> str:
@@ -29,51 +35,67 @@ def _assert_clear(outcome, seconds):
     assert not found, f"{'; '.join(found)}\n{outcome.describe()}"
 
 
+def _assert_located(outcome, path: str, line: int, words: str):
+    assert outcome.status == 1 and is_located(outcome), outcome.describe()
+    first = outcome.stderr.splitlines()[0]
+    assert re.match(rf"{re.escape(path)}:{line}:\d+: error: ", first), outcome.describe()
+    assert words in first, outcome.describe()
+
+
 def _bug(name: str, what: str):
+    """A strict xfail for a bug recorded in known_bugs.py under `name` (none is open now)."""
     return pytest.mark.xfail(strict=True, reason=f"known bug {name}: {what}")
 
 
-@_bug("name-too-long", "a model name or output file name over 255 bytes is an internal OSError "
-                       "(ENAMETOOLONG) instead of a clear error")
-@pytest.mark.parametrize("arguments", [["check", "x" * 300],
-                                       ["simulate", "{model}", "--stop", "1", "--output", "x" * 300 + ".csv"]],
-                         ids=["model", "output"])
-def test_name_too_long(fuzz_base, arguments):
+def test_no_input_is_skipped_as_a_known_bug_any_more():
+    assert known_bug(["check", "x" * 300, "a\x00"], "9^9^9 Real[1e308] 1:1000000000") is None
+
+
+# -------------------------------------------------- was name-too-long: an internal OSError ENAMETOOLONG
+
+@pytest.mark.parametrize("arguments, words", [
+    (["check", "x" * 300], "no model `xxxx"),
+    (["simulate", "{model}", "--stop", "1", "--output", "x" * 300 + ".csv"],
+     "--output `xxx"),
+    (["simulate", "{model}", "--stop", "1", "--plot", "d/" + "y" * 256 + "/p.png"], "is 256 bytes long"),
+    (["check", "{folder}/" + "z" * 300 + ".dyad"], "is 305 bytes long"),
+    (["parse", "q" * 300 + ".dyad"], "FILE `qqq"),
+    (["check", "{model}", "-L", "L" * 256], "-L `LLL"),
+], ids=["model-name", "output", "plot-folder", "model-file", "parse-file", "lib"])
+def test_a_name_too_long_for_a_file_is_a_clear_error(fuzz_base, arguments, words):
     work = example_dir(fuzz_base)
     model = str(write_seed(work, OSCILLATOR))
-    argv = [a.replace("{model}", model) for a in arguments]
-    assert known_bug(argv) == "name-too-long"
-    _assert_clear(run_in_process(argv, work), HANG_LIMIT_S)
+    argv = [a.replace("{model}", model).replace("{folder}", str(work)) for a in arguments]
+    outcome = run_in_process(argv, work)
+    _assert_clear(outcome, HANG_LIMIT_S)
+    assert outcome.status == 1 and outcome.stderr.startswith("error: ") and words in outcome.stderr, \
+        outcome.describe()
+    assert "internal" not in outcome.stderr and not list(work.glob("x*"))
 
 
-@_bug("name-too-long", "a component named with 300 characters in a model file is looked up as "
-                       "components/<name>: an internal OSError (ENAMETOOLONG)")
-def test_component_name_too_long(fuzz_base):
+def test_a_component_named_with_300_characters_in_a_model_file_checks(fuzz_base):
+    # was looked up as components/<name>.dyad: an internal OSError (ENAMETOOLONG)
     work = example_dir(fuzz_base)
     text = OSCILLATOR.text.replace("component Oscillator", "component " + "x" * 300)
-    path = str(write_seed(work, OSCILLATOR, text))
-    assert known_bug(["check", path], text) == "name-too-long"
-    _assert_clear(run_in_process(["check", path], work), HANG_LIMIT_S)
+    outcome = run_in_process(["check", str(write_seed(work, OSCILLATOR, text))], work)
+    _assert_clear(outcome, HANG_LIMIT_S)
+    assert outcome.status == 0 and "balanced: 2 equations, 2 unknowns" in outcome.stdout, outcome.describe()
 
 
-@_bug("exponent-size", "`variable w::Real[1e308]` is an internal ValueError (Maximum allowed "
-                       "dimension exceeded) instead of a located error on the size")
-def test_exponent_size(fuzz_base):
+# ------------------------------------------------------ was nul-in-argument: an internal ValueError
+
+def test_a_nul_byte_in_an_argument_is_a_clear_error(fuzz_base):
+    # only callers of compiler.cli.main can pass one: a shell cannot
     work = example_dir(fuzz_base)
-    text = "variable v::Real(initial = 0.0)\n  variable w::Real[1e308]"
-    path = _oscillator_with(work, "variable v::Real(initial = 0.0)", text)
-    assert known_bug(["check", path], text) == "exponent-size"
-    _assert_clear(run_in_process(["check", path], work), HANG_LIMIT_S)
+    model = str(write_seed(work, OSCILLATOR))
+    for argv in (["parse", "a\x00"], ["simulate", model, "--stop", "1", "--output", "o\x00.csv"],
+                 ["simulate", model, "--stop", "1", "-p", "k=1\x00"]):
+        outcome = run_in_process(argv, work)
+        _assert_clear(outcome, HANG_LIMIT_S)
+        assert outcome.status == 1 and "contains a NUL byte" in outcome.stderr, outcome.describe()
 
 
-@_bug("nul-in-argument", "main(['check', 'a\\0']) is an internal ValueError (embedded null byte); "
-                         "only callers of compiler.cli.main can pass one, a shell cannot")
-def test_nul_in_argument(fuzz_base):
-    work = example_dir(fuzz_base)
-    argv = ["parse", "a\x00"]
-    assert known_bug(argv) == "nul-in-argument"
-    _assert_clear(run_in_process(argv, work), HANG_LIMIT_S)
-
+# ------------------------------------------------------------------- fixed before: plain tests
 
 def test_a_span_shorter_than_round_off_is_a_clear_error(fuzz_base):
     # found by the fuzzer: was an internal IndexError (an empty list of segment ends)
@@ -89,43 +111,44 @@ def test_an_absolute_tolerance_below_what_a_solver_resolves_is_refused(fuzz_base
     _assert_clear(run_in_process(argv, work, seconds=HANG_LIMIT_S), HANG_LIMIT_S)
 
 
-@_bug("power-tower-hangs", "`parameter k::Real = 9^9^9` makes check/flatten evaluate 9^387420489 "
-                           "exactly: no answer for minutes")
-def test_power_tower(fuzz_base):
+# --------------------------------------------- was power-tower-hangs: 9^387420489 evaluated exactly
+
+def test_a_power_tower_is_a_located_error_at_once(fuzz_base):
     work = example_dir(fuzz_base)
     path = _oscillator_with(work, "4.0", "9^9^9")
-    assert known_bug(["check", path], "9^9^9") == "power-tower-hangs"
-    _assert_clear(run_in_subprocess(["check", path], work, seconds=SUBPROCESS_HANG_LIMIT_S),
-                  SUBPROCESS_HANG_LIMIT_S)
+    outcome = run_in_subprocess(["check", path], work, seconds=SUBPROCESS_HANG_LIMIT_S)
+    _assert_clear(outcome, SUBPROCESS_HANG_LIMIT_S)
+    _assert_located(outcome, path, 3, "the power 9^387420489 is too large: about 10^369,693,099")
 
 
-@_bug("huge-size", "a size of 1e9 is not estimated before allocating (issue 19 item 5): "
-                   "`Real[1000000000]` is an internal MemoryError (7.45 GiB)")
-def test_huge_array(fuzz_base):
+# ------------------------------------ was exponent-size and huge-size: no estimate before allocating
+
+@pytest.mark.parametrize("declaration, words", [
+    ("variable w::Real[1e308]", "the array `w` would create about 1e+308 elements, " + LIMIT),
+    ("variable w::Real[-1e308]", "an array size cannot be negative, got about -1e+308"),
+    ("variable w::Real[1000000000]", "the array `w` would create 1,000,000,000 elements, " + LIMIT),
+], ids=["1e308", "-1e308", "1e9"])
+def test_a_huge_array_is_refused_before_allocating(fuzz_base, declaration, words):
+    # was an internal ValueError (Maximum allowed dimension exceeded) or MemoryError (7.45 GiB)
     work = example_dir(fuzz_base)
-    text = "variable v::Real(initial = 0.0)\n  variable w::Real[1000000000]"
+    text = "variable v::Real(initial = 0.0)\n  " + declaration
     path = _oscillator_with(work, "variable v::Real(initial = 0.0)", text)
-    assert known_bug(["check", path], text) == "huge-size"
-    # in a fresh process under the 4 GiB limit: in process it would take the test worker's memory
-    _assert_clear(run_in_subprocess(["check", path], work, seconds=60), 60)
+    # in a fresh process under the 4 GiB limit: were it allocated, it would take the worker's memory
+    outcome = run_in_subprocess(["check", path], work, seconds=60)
+    _assert_clear(outcome, SUBPROCESS_HANG_LIMIT_S)
+    _assert_located(outcome, path, 7, words)
 
 
-@_bug("huge-size", "`for i in 1:1000000000` is unrolled without a bound: no answer for minutes")
-def test_huge_for_loop(fuzz_base):
+@pytest.mark.parametrize("old, new, line, words", [
+    ("der(x) = v", "for i in 1:1000000000\n    der(x) = v\n  end", 8,
+     "this range would create 1,000,000,000 elements, " + LIMIT),
+    ("der(x) = v", "der(x) = v + 0 * sum([i for i in 1:1000000000])", 8,
+     "this range would create 1,000,000,000 elements, " + LIMIT),
+], ids=["for-loop", "comprehension"])
+def test_a_huge_range_is_refused_before_unrolling(fuzz_base, old, new, line, words):
+    # was no answer for minutes
     work = example_dir(fuzz_base)
-    relation = "for i in 1:1000000000\n    der(x) = v\n  end"
-    path = _oscillator_with(work, "der(x) = v", relation)
-    assert known_bug(["check", path], relation) == "huge-size"
-    _assert_clear(run_in_subprocess(["check", path], work, seconds=SUBPROCESS_HANG_LIMIT_S),
-                  SUBPROCESS_HANG_LIMIT_S)
-
-
-@_bug("huge-size", "`sum([i for i in 1:1000000000])` is built element by element without a bound: "
-                   "no answer for minutes")
-def test_huge_comprehension(fuzz_base):
-    work = example_dir(fuzz_base)
-    relation = "der(x) = v + 0 * sum([i for i in 1:1000000000])"
-    path = _oscillator_with(work, "der(x) = v", relation)
-    assert known_bug(["check", path], relation) == "huge-size"
-    _assert_clear(run_in_subprocess(["check", path], work, seconds=SUBPROCESS_HANG_LIMIT_S),
-                  SUBPROCESS_HANG_LIMIT_S)
+    path = _oscillator_with(work, old, new)
+    outcome = run_in_subprocess(["check", path], work, seconds=SUBPROCESS_HANG_LIMIT_S)
+    _assert_clear(outcome, SUBPROCESS_HANG_LIMIT_S)
+    _assert_located(outcome, path, line, words)
