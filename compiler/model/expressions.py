@@ -616,15 +616,19 @@ def _call(expr: ast.Call, scope: EvalScope, mode: Mode) -> Any:
         value = _num(evaluate(expr.args[0], scope, mode), span)
         return _filled(value, _shape_args(expr.args[1:], scope, span))
     if name == "size":
-        value = _num(evaluate(expr.args[0], scope, mode), span) if expr.args else None
-        if not is_array(value):
-            raise DyadError("`size` expects an array", span)
+        if not 1 <= len(expr.args) <= 2:
+            raise DyadError("`size` takes an array and optionally a dimension", span)
+        # A size is known at compile time even when the elements are unknowns: read the array
+        # symbolically (in a parameter expression, `size(u, 1)` of a variable `u` is allowed).
+        value = _num(evaluate(expr.args[0], scope, Mode.SYMBOLIC), span)
+        shape = shape_of(value)
         if len(expr.args) == 2:
             dim = structural_int(evaluate(expr.args[1], scope, Mode.STRUCTURAL), span)
-            if not 1 <= dim <= value.ndim:
+            if dim < 1:
                 raise DyadError(f"`size`: dimension {dim} out of range", span)
-            return sympy.Integer(value.shape[dim - 1])
-        return as_array([sympy.Integer(s) for s in value.shape])
+            # as in Julia, a scalar (and any array past its last dimension) has size 1
+            return sympy.Integer(shape[dim - 1] if dim <= len(shape) else 1)
+        return as_array([sympy.Integer(s) for s in shape])
     lex = scope.lexical
     impl = lex.library.resolve_function(name, lex.package, lex.file, span)
     args = [_num(evaluate(a, scope, mode), span) for a in expr.args]

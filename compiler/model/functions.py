@@ -160,6 +160,8 @@ ELEMENTARY: dict[str, FunctionImpl] = {
     "norm": FunctionImpl("norm", _norm, 1, 1),
     "dot": FunctionImpl("dot", _dot, 2, 2),
     "sum": FunctionImpl("sum", _sum, 1, 1),
+    "prod": FunctionImpl("prod", lambda v: sympy.Mul(*v.ravel().tolist()) if is_array(v) else v,
+                         1, 1),
     "cross": FunctionImpl("cross", _cross, 2, 2),
     "transpose": FunctionImpl("transpose", _transpose, 1, 1),
     "length": FunctionImpl("length", _length, 1, 1),
