@@ -33,6 +33,9 @@ LIB_HELP = ("library folder, searched after the shipped library and before $DYAD
 def _add_model(p: argparse.ArgumentParser) -> None:
     p.add_argument("model", metavar="MODEL", help="model file, file:Name, or qualified name")
     p.add_argument("-L", "--lib", dest="lib", action="append", default=[], metavar="DIR", help=LIB_HELP)
+    p.add_argument("--max-elements", type=int, metavar="N",
+                   help="refuse array sizes, ranges, loops and component arrays of more than N elements "
+                        "(default $DYADC_MAX_ELEMENTS or 1000000)")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -323,7 +326,12 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
-        return args.run(args) or 0
+        from compiler import cli_options
+        from compiler.model.size_limits import element_limit
+        cli_options.check_arguments(sys.argv[1:] if argv is None else list(argv))
+        cli_options.check_paths(args)
+        with element_limit(getattr(args, "max_elements", None)):
+            return args.run(args) or 0
     except DyadError as err:
         print(err.format(), file=sys.stderr)
         return 1
