@@ -20,6 +20,7 @@ from compiler import runtime
 from compiler.model.flat import FlatSystem
 from compiler.lower.to_casadi import lower
 from compiler.structure.dummy_derivatives import base_variable
+from compiler.structure.differentiate import partial
 from compiler.structure.reduce import Analysis, StructureReport, reduce, select_states
 from compiler.structure.reduced import Assignment, ReducedSystem
 
@@ -52,7 +53,7 @@ def monitored_levels(flat: FlatSystem, analysis: Analysis, report: StructureRepo
         for e in rows:                                 # only where the unknown occurs: linear in size
             for v in system.incidence[e]:
                 if v in candidates_of_interest and v not in varying_set and \
-                        not sympy.diff(system.equations[e], system.symbols[v]).free_symbols <= constant:
+                        not partial(system.equations[e], system.symbols[v]).free_symbols <= constant:
                     varying_set.add(v)
         varying = [v for v in chosen if v in varying_set]
         if not varying:
@@ -75,8 +76,8 @@ def _stand_ins(system, kept: list[int]) -> set[int]:
             continue
         a, b = (system.index_of[s] for s in symbols)
         for w, dphi in ((a, b), (b, a)):
-            if diff_to_var[dphi] >= 0 and abs(sympy.diff(residual, system.symbols[w])) == 1 \
-                    and abs(sympy.diff(residual, system.symbols[dphi])) == 1:
+            if diff_to_var[dphi] >= 0 and abs(partial(residual, system.symbols[w])) == 1 \
+                    and abs(partial(residual, system.symbols[dphi])) == 1:
                 dw, ddphi = system.var_to_diff[w], system.var_to_diff[dphi]
                 if dw in kept_set and ddphi >= 0:
                     stand_ins.add(ddphi)
@@ -107,7 +108,7 @@ def build_variant(flat: FlatSystem, analysis: Analysis, point: dict[str, float] 
         for i, e in enumerate(rows):
             for j, v in enumerate(candidates):
                 pivots.append(Assignment(f"__pivot{level}[{i},{j}]",
-                                         sympy.diff(system.equations[e], system.symbols[v])))
+                                         partial(system.equations[e], system.symbols[v])))
         layouts.append((rows, candidates, chosen, start))
     monitored = dataclasses.replace(reduced, observables=list(reduced.observables) + pivots,
                                     output_names=public + internal + [a.target for a in pivots])

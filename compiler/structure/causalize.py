@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 
 import sympy
 
+from compiler.structure.differentiate import free_symbols, partial
 from compiler.structure.graph.blt import block_lower_triangular
 from compiler.structure.graph.matching import maximum_matching
 from compiler.structure.graph.tearing import tear_block
@@ -28,38 +29,46 @@ class Causalization:
 
 
 class LinearSolver:
-    """Answers 'can equation e be solved explicitly for unknown v' and caches the solution."""
+    """Answers 'can equation e be solved explicitly for unknown v' and caches the answer; the
+    solution itself is built only for the pairs that become assignments."""
 
     def __init__(self, system: IndexedSystem):
         self.system = system
-        self._cache: dict[tuple[int, int], sympy.Expr | None] = {}
+        self._coefficients: dict[tuple[int, int], sympy.Expr | None] = {}
 
     def solution(self, e: int, v: int) -> sympy.Expr | None:
-        key = (e, v)
-        if key not in self._cache:
-            self._cache[key] = self._solve(e, v)
-        return self._cache[key]
+        coefficient = self._coefficient(e, v)
+        if coefficient is None:
+            return None
+        rest = self.system.equations[e].xreplace({self.system.symbols[v]: sympy.Integer(0)})
+        return -rest / coefficient
 
     def solvable(self, e: int, v: int) -> bool:
-        return self.solution(e, v) is not None
+        return self._coefficient(e, v) is not None
 
     def safely_solvable(self, e: int, v: int) -> bool:
         """Solvable with a coefficient free of unknowns: the division can never be by zero."""
-        if not self.solvable(e, v):
+        coefficient = self._coefficient(e, v)
+        if coefficient is None:
             return False
-        coefficient = sympy.diff(self.system.equations[e], self.system.symbols[v])
-        return not any(s in self.system.index_of for s in coefficient.free_symbols)
+        return not any(s in self.system.index_of for s in free_symbols(coefficient))
 
-    def _solve(self, e: int, v: int) -> sympy.Expr | None:
-        residual = self.system.equations[e]
+    def _coefficient(self, e: int, v: int) -> sympy.Expr | None:
+        """d residual / d unknown if the residual is linear in the unknown (and the coefficient
+        is no switch that could be zero on one side); else None."""
+        key = (e, v)
+        if key not in self._coefficients:
+            self._coefficients[key] = self._linear_coefficient(e, v)
+        return self._coefficients[key]
+
+    def _linear_coefficient(self, e: int, v: int) -> sympy.Expr | None:
         sym = self.system.symbols[v]
-        coefficient = sympy.diff(residual, sym)
-        if coefficient == 0 or sym in coefficient.free_symbols:
+        coefficient = partial(self.system.equations[e], sym)
+        if coefficient == 0 or sym in free_symbols(coefficient):
             return None
         if coefficient.has(sympy.Piecewise, sympy.Heaviside, sympy.DiracDelta):
             return None
-        rest = residual.xreplace({sym: sympy.Integer(0)})
-        return -rest / coefficient
+        return coefficient
 
 
 def causalize(system: IndexedSystem, is_known: list[bool]) -> Causalization:

@@ -18,6 +18,8 @@ from fractions import Fraction
 import numpy as np
 import sympy
 
+from compiler.structure.differentiate import partial
+
 
 @dataclass
 class RankReport:
@@ -39,7 +41,7 @@ def remove_derivative_dependencies(equations: list[sympy.Expr], derivative_symbo
             continue
         row = np.zeros(len(ders))
         for d in present:
-            coefficient = sympy.diff(eq, d)
+            coefficient = partial(eq, d)
             if coefficient.free_symbols - parameter_values.keys():
                 break                                   # depends on unknowns (or nonlinear in d)
             row[der_index[d]] = float(coefficient.xreplace(parameter_values))

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import sympy
 
 from compiler.model.flat import TIME, Origin, der_name
+from compiler.structure.differentiate import free_symbols, partial
 
 
 @dataclass
@@ -40,7 +41,7 @@ class IndexedSystem:
         return len(self.names)
 
     def incidence_of(self, expr: sympy.Expr) -> list[int]:
-        return sorted(self.index_of[s] for s in expr.free_symbols if s in self.index_of)
+        return sorted(self.index_of[s] for s in free_symbols(expr) if s in self.index_of)
 
     def diff_to_var(self) -> list[int]:
         inverse = [-1] * self.n_vars
@@ -74,14 +75,14 @@ class IndexedSystem:
     def time_derivative(self, expr: sympy.Expr) -> sympy.Expr:
         """d/dt by the chain rule; parameters are constant, unknowns get their der() unknowns."""
         terms = []
-        for s in sorted(expr.free_symbols, key=lambda s: s.name):
+        for s in sorted(free_symbols(expr), key=lambda s: s.name):
             if s == TIME:
-                terms.append(sympy.diff(expr, s))
+                terms.append(partial(expr, s))
             elif s in self.index_of:
                 d = self.derivative_of_variable(self.index_of[s])
-                partial = sympy.diff(expr, s)
-                if partial != 0:
-                    terms.append(partial * self.symbols[d])
+                coefficient = partial(expr, s)
+                if coefficient != 0:
+                    terms.append(coefficient * self.symbols[d])
         return sympy.Add(*terms)
 
 

@@ -13,6 +13,7 @@ from compiler.structure.alias import AliasResult, eliminate_aliases
 from compiler.structure.causalize import Causalization, causalize
 from compiler.structure.derivative_rank import RankReport, remove_derivative_dependencies
 from compiler.structure.diagnostics import structural_singularity_error
+from compiler.structure.differentiate import partial
 from compiler.structure.dummy_derivatives import DummySelection, base_variable, select_dummy_derivatives
 from compiler.structure.index_reduction import IndexReductionReport, reduce_index
 from compiler.structure.indexed import IndexedSystem, build_indexed
@@ -144,9 +145,9 @@ def _numeric_jacobian(system: IndexedSystem, flat: FlatSystem, point: dict[str, 
                 j = col_index.get(v)
                 if j is None:
                     continue
-                partial = sympy.diff(system.equations[e], system.symbols[v])
+                coefficient = partial(system.equations[e], system.symbols[v])
                 try:
-                    out[i, j] = float(partial.xreplace(values))
+                    out[i, j] = float(coefficient.xreplace(values))
                 except (TypeError, ValueError):
                     out[i, j] = np.nan
         if np.isnan(out).any():

@@ -1,0 +1,110 @@
+"""Partial derivatives of sympy expressions, memoized: the same trees `sympy.diff` builds, faster.
+
+The structure passes differentiate every equation by every unknown it contains, some pairs
+several times (time derivatives in index reduction, solvability in tearing, pivoting in dummy
+derivative selection). `sympy.diff` pays its generic `Derivative` machinery at every node (for
+each symbol even a Piecewise in the order of differentiation) and sympy's bounded cache forgets
+the results on large models, which made differentiation most of the compile time of a chain.
+
+`partial(expr, symbol)` applies, for Add, Mul, Pow and ordinary functions, exactly the rule the
+node's own class applies inside `sympy.diff` (same products and sums, built in the same order,
+so the result is the identical tree); any other node is handed to `sympy.diff` itself. Results
+are kept in a bounded memo keyed by (expression, symbol).
+"""
+from __future__ import annotations
+
+import sympy
+from sympy.core.basic import Basic
+from sympy.core.function import ArgumentIndexError, Function
+from sympy.ntheory.multinomial import multinomial_coefficients_iterator
+
+_MEMO_LIMIT = 500_000                        # entries; cleared when full (values are re-derivable)
+_memo: dict[tuple[sympy.Basic, sympy.Symbol], sympy.Expr] = {}
+_free_memo: dict[sympy.Basic, frozenset] = {}
+
+
+def partial(expr: sympy.Expr, symbol: sympy.Symbol) -> sympy.Expr:
+    """d expr / d symbol, structurally equal to `sympy.diff(expr, symbol)`."""
+    if len(_memo) > _MEMO_LIMIT or len(_free_memo) > _MEMO_LIMIT:
+        _memo.clear()
+        _free_memo.clear()
+    return _partial(expr, symbol)
+
+
+def free_symbols(expr: sympy.Basic) -> frozenset:
+    """`expr.free_symbols`, memoized per node (sympy recomputes it from the leaves every time)."""
+    found = _free_memo.get(expr)
+    if found is None:
+        if expr.is_Symbol:
+            found = frozenset((expr,))
+        elif not expr.args:
+            found = frozenset(expr.free_symbols)
+        elif isinstance(expr, (sympy.Add, sympy.Mul, sympy.Pow)) or _plain_function(type(expr)):
+            found = frozenset().union(*(free_symbols(a) for a in expr.args))
+        else:
+            found = frozenset(expr.free_symbols)
+        _free_memo[expr] = found
+    return found
+
+
+def _partial(expr: sympy.Expr, symbol: sympy.Symbol) -> sympy.Expr:
+    key = (expr, symbol)
+    found = _memo.get(key)
+    if found is None:
+        found = _derive(expr, symbol)
+        _memo[key] = found
+    return found
+
+
+def _derive(expr: sympy.Expr, symbol: sympy.Symbol) -> sympy.Expr:
+    if symbol not in free_symbols(expr):
+        return sympy.S.Zero                  # Derivative's quick exit
+    if expr is symbol or (expr.is_Symbol and expr == symbol):
+        return sympy.S.One
+    kind = type(expr)
+    if kind is sympy.Add:                    # Add._eval_derivative
+        return expr.func(*[_partial(a, symbol) for a in expr.args])
+    if kind is sympy.Mul:                    # Mul._eval_derivative_n_times with n = 1 (Leibniz)
+        args = expr.args
+        terms = []
+        for orders, coefficient in multinomial_coefficients_iterator(len(args), 1):
+            product = sympy.Mul(*[_partial(a, symbol) if k else a for k, a in zip(orders, args)])
+            terms.append(coefficient * product)
+        return sympy.Add(*terms)
+    if kind is sympy.Pow:                    # Pow._eval_derivative
+        base, exponent = expr.base, expr.exp
+        dbase = _partial(base, symbol)
+        dexp = _partial(exponent, symbol)
+        return expr * (dexp * sympy.log(base) + dbase * exponent / base)
+    if _plain_function(kind):                # Function._eval_derivative: the chain rule
+        terms = []
+        for i, a in enumerate(expr.args, start=1):
+            da = _partial(a, symbol)
+            if da.is_zero:
+                continue
+            try:
+                df = expr.fdiff(i)
+            except ArgumentIndexError:
+                df = Function.fdiff(expr, i)
+            terms.append(df * da)
+        result = sympy.Add(*terms)
+        if not result.has(sympy.Derivative, sympy.Subs):
+            return result
+    return sympy.diff(expr, symbol)
+
+
+_PLAIN: dict[type, bool] = {}
+
+
+def _plain_function(kind: type) -> bool:
+    """A function class that differentiates by the generic chain rule and has its own fdiff."""
+    plain = _PLAIN.get(kind)
+    if plain is None:
+        plain = (issubclass(kind, Function)
+                 and kind._eval_derivative is Function._eval_derivative
+                 and kind._eval_derivative_n_times is Basic._eval_derivative_n_times
+                 and kind.fdiff is not Function.fdiff
+                 and kind.free_symbols is Basic.free_symbols)
+        _PLAIN[kind] = plain
+    return plain
+
