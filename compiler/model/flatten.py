@@ -457,6 +457,7 @@ class Flattener:
         return {"Dyad": top.get("Dyad", {}), "instances": instance_metadata,
                 "components": components, "connectors": connectors, "bounds": self.bounds,
                 "declared_partial": bool(getattr(self.root.resolved.definition, "partial", False)),
+                "declared_external": bool(getattr(self.root.resolved.definition, "external", False)),
                 "strings": getattr(self, "_strings", {}),
                 "model_span": span_text(self.root.resolved.definition.span)}
 

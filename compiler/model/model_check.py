@@ -32,6 +32,7 @@ class Verdict:
     open_connectors: tuple[str, ...] = ()     # physical connectors of the model itself
     open_inputs: tuple[str, ...] = ()         # its input signals
     declared_partial: bool = False
+    declared_external: bool = False           # `external component`: equations written in Julia
     component_equations: int = 0              # without the zero flows of its open connectors
     component_unknowns: int = 0               # without those flows and its inputs
     reason: DyadError | None = None           # why it cannot run on its own (None: it can)
@@ -53,6 +54,9 @@ class Verdict:
             return f"balanced: {self.equations} equations, {self.unknowns} unknowns"
         opened = (f"{self.open_count} open connector{'s' if self.open_count != 1 else ''}"
                   + (f" ({self.open_list()})" if self.open_count else ""))
+        if self.declared_external:
+            return (f"external: interface only, {self.unknowns} unknowns and {opened}; its "
+                    f"equations are implemented in Julia, so dyadc cannot simulate it")
         if self.component_equations == self.component_unknowns:
             state = "balanced as a component"
         else:
@@ -67,6 +71,10 @@ class Verdict:
         reason = self.reason
         opened = {1: f"its connector {self.open_list()} is left open"}.get(
             self.open_count, f"its {self.open_count} connectors {self.open_list()} are left open")
+        if self.declared_external:
+            return DyadError(f"`{self.model}` is an external component: its equations are "
+                             f"implemented in Julia, which dyadc cannot run", reason.span,
+                             hint="replace it by a component whose relations are written in Dyad")
         if self.declared_partial:
             head = f"`{self.model}` is declared partial: an incomplete component, it cannot be simulated"
             hint = "simulate a model that uses a component extending it"
@@ -96,6 +104,11 @@ def assess(flat: FlatSystem) -> Verdict:
     verdict = Verdict(flat.name, len(flat.equations), unknowns, open_connectors, open_inputs,
                       bool(flat.metadata.get("declared_partial")),
                       len(flat.equations) - zero_flows, unknowns - len(top_flows) - len(open_inputs))
+    if flat.metadata.get("declared_external"):
+        # its relations live in Julia: the interface instantiated, nothing more can be counted
+        return replace(verdict, declared_external=True, reason=DyadError(
+            f"`{flat.name}` has no relations in Dyad (external)",
+            span_from_text(flat.metadata.get("model_span"))))
     try:
         check_closed(flat)
     except DyadError as err:
