@@ -1,36 +1,48 @@
-"""The Python API: what a user (or a test) calls instead of the command line."""
+"""The Python API: what a user (or a test) calls instead of the command line.
+
+Only the runtime is imported with this module; the compiler's stages are imported when a compile
+runs (a run from the compilation cache imports neither sympy nor lark).
+"""
 from __future__ import annotations
 
-import time
-from typing import Mapping, Sequence
+from typing import TYPE_CHECKING, Mapping, Sequence
 
 from compiler import runtime
-from compiler.model.flat import FlatSystem
-from compiler.pipeline import Compilation, compile_spec, flatten_spec
-from compiler.simulate import runtime_errors
+from compiler.simulate import runtime_errors, translate_runtime_error
+
+if TYPE_CHECKING:
+    from compiler.cache.models import CachedCompilation
+    from compiler.model.flat import FlatSystem
+    from compiler.pipeline import Compilation
 
 
 def flatten(model_spec: str, lib_dirs: Sequence[str] = ()) -> FlatSystem:
+    from compiler.pipeline import flatten_spec
     return flatten_spec(model_spec, lib_dirs)[0]
 
 
 def compile(model_spec: str, lib_dirs: Sequence[str] = ()) -> Compilation:  # noqa: A001 - the verb users expect
+    from compiler.pipeline import compile_spec
     return compile_spec(model_spec, lib_dirs)
 
 
-def simulate_compiled(compilation: Compilation, stop: float, *, start: float = 0.0, rtol: float = 1e-6,
-                      atol: float = 1e-6, points: int = 501, saveat=None,
+def simulate_compiled(compilation: Compilation | CachedCompilation, stop: float, *, start: float = 0.0,
+                      rtol: float = 1e-6, atol: float = 1e-6, points: int = 501, saveat=None,
                       params: Mapping[str, float] | None = None, progress: bool | None = None,
                       integrator_options: Mapping | None = None, max_step: float | None = None,
                       max_steps: int = 100000) -> runtime.Result:
     """Run a compilation through the runtime's one driver (with the state-set switcher when its
     state set may have to change); failures become located DyadErrors. `integrator_options` go to
     CasADi's IDAS interface, e.g. {"suppress_algebraic": False} to keep the algebraic unknowns in
-    the error test (default: suppressed, see compiler/runtime/idas.py)."""
-    options = runtime.SimulationOptions(stop=stop, start=start, rtol=rtol, atol=atol, points=points,
-                                        saveat=saveat, params=params, progress=progress,
-                                        integrator_options=integrator_options, max_step=max_step,
-                                        max_steps=max_steps)
+    the error test (default: suppressed, see compiler/runtime/idas.py). A compilation from the
+    cache runs its model alone; where a located error needs the sources (a parameter without a
+    value, a failure at the start), the model is compiled from them and the run repeated."""
+    arguments = dict(start=start, rtol=rtol, atol=atol, points=points, saveat=saveat, params=params,
+                     progress=progress, integrator_options=integrator_options, max_step=max_step,
+                     max_steps=max_steps)
+    options = runtime.SimulationOptions(stop=stop, **arguments)
+    if not hasattr(compilation, "flat"):
+        return _simulate_cached(compilation, options, stop, arguments)
     switcher = None
     if compilation.dynamic:
         from compiler.lower.state_set_variants import Switcher
@@ -39,14 +51,47 @@ def simulate_compiled(compilation: Compilation, stop: float, *, start: float = 0
     from compiler.model.run_checks import checked_run       # missing parameter values, singular start
     with checked_run(compilation, params, start), runtime_errors(compilation.reduced, compilation.flat):
         result = runtime.simulate(compilation.model, options=options, switcher=switcher)
-    result.stats["compile_time"] = sum(compilation.timings.values())
-    result.stats["compile_timings"] = dict(compilation.timings)
+    return _with_compile_times(result, compilation.timings)
+
+
+def _simulate_cached(cached: CachedCompilation, options: runtime.SimulationOptions, stop: float,
+                     arguments: dict) -> runtime.Result:
+    from compiler.pipeline import recompile
+
+    def from_sources() -> runtime.Result:
+        full = recompile(cached)
+        full.model = cached.model          # the same model (maybe in C), now with its sources
+        return simulate_compiled(full, stop, **arguments)
+
+    given = arguments["params"] or {}
+    if any(name not in given for name in cached.needs_values):
+        return from_sources()                   # the located "has no value" error
+    try:
+        result = runtime.simulate(cached.model, options=options)
+    except runtime.InitializationFailed:
+        return from_sources()                   # located at the initial equations
+    except runtime.SimulationFailed as err:
+        if err.time_reached is None or err.time_reached <= options.start:
+            return from_sources()               # maybe explained by a parameter value
+        raise translate_runtime_error(err, declarations=cached.declarations) from None
+    except runtime.ModelInputError as err:
+        raise translate_runtime_error(err) from None
+    return _with_compile_times(result, cached.timings)
+
+
+def _with_compile_times(result: runtime.Result, timings: Mapping[str, float]) -> runtime.Result:
+    result.stats["compile_time"] = sum(timings.values())
+    result.stats["compile_timings"] = dict(timings)
     return result
 
 
 def simulate(model_spec: str, stop: float, *, lib_dirs: Sequence[str] = (), start: float = 0.0,
              rtol: float = 1e-6, atol: float = 1e-6, points: int = 501, saveat=None,
-             params: Mapping[str, float] | None = None, progress: bool | None = None) -> runtime.Result:
-    compilation = compile_spec(model_spec, lib_dirs)
+             params: Mapping[str, float] | None = None, progress: bool | None = None,
+             cache: bool = False) -> runtime.Result:
+    """Compile and run `model_spec`. `cache=True`: through the compilation cache, as
+    `dyadc simulate` does (docs/cache.md)."""
+    from compiler.pipeline import compile_or_load
+    compilation = compile_or_load(model_spec, lib_dirs, cache=cache)
     return simulate_compiled(compilation, stop, start=start, rtol=rtol, atol=atol, points=points,
                              saveat=saveat, params=params, progress=progress)

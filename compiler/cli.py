@@ -94,7 +94,10 @@ def build_parser() -> argparse.ArgumentParser:
                    help="write the result; the extension picks the format: .csv, .parquet, .mat, .npz")
     p.add_argument("--plot", metavar="FILE.png", help="plot the result, one subplot per unit "
                                                       "(.png, .pdf, .svg, ...)")
-    p.add_argument("--codegen", choices=["c"], help="compile the model to C with gcc")
+    p.add_argument("--codegen", choices=["c"], help="compile the model to C with gcc (the first run "
+                                                    "builds it in the background, later runs use it)")
+    p.add_argument("--no-cache", action="store_true",
+                   help="compile from source and store nothing (docs/cache.md; or DYADC_CACHE_DIR=off)")
     p.add_argument("--keep-partial", action="store_true",
                    help="when the run fails, write what it reached to FILE.partial.EXT (with --output)")
     p.add_argument("--max-output-values", type=int, metavar="N",
@@ -163,6 +166,10 @@ def build_parser() -> argparse.ArgumentParser:
                         help="length of the animation; frames = duration x fps")
     p.set_defaults(run=_cmd_animate)
 
+    p = sub.add_parser("cache", help="where the compilation cache is and what it holds; clear it")
+    p.add_argument("action", choices=["info", "clear"])
+    p.set_defaults(run=_cmd_cache)
+
     p = sub.add_parser("generate", help="regenerate the committed modules in generated/")
     p.add_argument("-o", "--output-dir", default="generated", metavar="DIR")
     p.set_defaults(run=_cmd_generate)
@@ -229,10 +236,19 @@ def _cmd_compile(args) -> int:
 
 
 def _cmd_simulate(args) -> int:
+    background: list = []         # a C library being built while the run goes on
+    try:
+        return _simulate(args, background)
+    finally:
+        for build in background:
+            print(build.finish(), file=sys.stderr)
+
+
+def _simulate(args, background: list) -> int:
     from compiler import cli_options as options
     from compiler.api import simulate_compiled
     from compiler.cli_outputs import check_simulate_outputs, write_result
-    from compiler.pipeline import compile_spec
+    from compiler.pipeline import compile_or_load
     # Every option is checked before the compiler runs: a typo must cost neither a compile nor a run.
     options.check_span(args.start, args.stop)
     options.check_positive("--rtol", args.rtol)
@@ -245,9 +261,9 @@ def _cmd_simulate(args) -> int:
     options.check_output_size(times, 0, limit, f"--saveat {args.saveat}" if saveat else f"--points {times}")
     overrides = [options.parse_override(text) for text in args.params]
     check_simulate_outputs(args.output, args.plot)
-    compilation = compile_spec(args.model, args.lib)
-    from compiler.testing.golden import initialization_notes    # under-determined: what was chosen
-    for note in initialization_notes(compilation):
+    compilation = compile_or_load(args.model, args.lib, cache=not args.no_cache)
+    from compiler.pipeline import start_notes    # under-determined: what was chosen
+    for note in start_notes(compilation):
         print(f"note: {note}", file=sys.stderr)
     model = compilation.model
     options.check_output_size(times, len(model.output_names), limit, f"{times:,} output times of {model.name}")
@@ -255,9 +271,9 @@ def _cmd_simulate(args) -> int:
     params = options.convert_overrides(overrides, model.parameters, units)
     if args.codegen == "c":
         import time
-        from compiler.lower.ccodegen import use_c_code
+        from compiler.cache.native import use_c_code
         began = time.perf_counter()
-        compilation.model = use_c_code(compilation.model)
+        background += filter(None, [use_c_code(compilation, cache=not args.no_cache)])
         compilation.timings["codegen c"] = time.perf_counter() - began
     try:
         result = simulate_compiled(compilation, args.stop, start=args.start, rtol=args.rtol,
@@ -297,6 +313,11 @@ def _cmd_animate(args) -> int:
     from compiler.render.animate import main_animate
     return main_animate(args.model, args.lib, args.stop, args.output, fps=args.fps, frames=args.frames,
                         duration=args.duration, video_format=args.format)
+
+
+def _cmd_cache(args) -> int:
+    from compiler.cache.command import main_cache
+    return main_cache(args.action)
 
 
 def _cmd_generate(args) -> int:

@@ -1,17 +1,27 @@
-"""The whole compiler as one function per stage boundary, with timings for every stage."""
+"""The whole compiler as one function per stage boundary, with timings for every stage, and the
+compilation cache in front of it (`compile_or_load`, docs/cache.md).
+
+The stages are imported when they run, not with this module: a run whose compiled model comes
+from the cache never imports sympy or lark.
+"""
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass, field
-from typing import Sequence
+from typing import TYPE_CHECKING, Sequence
 
-from compiler.model.flat import FlatSystem
-from compiler.lower.to_casadi import lower
-from compiler.model.model_check import require_standalone
-from compiler.runtime import CompiledModel
-from compiler.lower.state_set_variants import build_variant, monitored_levels
-from compiler.structure.reduce import Analysis, StructureReport, analyse, reduce
-from compiler.structure.reduced import ReducedSystem
+if TYPE_CHECKING:
+    from compiler.cache.models import CachedCompilation
+    from compiler.model.flat import FlatSystem
+    from compiler.model.library import Library
+    from compiler.runtime import CompiledModel
+    from compiler.structure.reduce import Analysis, StructureReport
+    from compiler.structure.reduced import ReducedSystem
+
+
+class CacheWarning(UserWarning):
+    """The compilation cache could not be used; the run goes on without it."""
 
 
 @dataclass
@@ -23,20 +33,30 @@ class Compilation:
     timings: dict[str, float] = field(default_factory=dict)
     analysis: Analysis | None = None
     variant: object | None = None        # a dynamic.Variant when the state set may have to switch
+    cache_key: str | None = None         # the cache entry this compilation was stored under
 
     @property
     def dynamic(self) -> bool:
         return self.variant is not None
 
 
-def flatten_spec(spec: str, lib_dirs: Sequence[str] = ()) -> tuple[FlatSystem, dict[str, float]]:
-    from compiler.model.flatten import flatten_model
+def flatten_spec(spec: str, lib_dirs: Sequence[str] = (), *,
+                 library: Library | None = None) -> tuple[FlatSystem, dict[str, float]]:
+    """`library`: the one to read sources with (default: a new Library on `lib_dirs`)."""
+    from compiler.model.flatten import flatten_resolved
+    from compiler.model.library import Library, resolve_model
     began = time.perf_counter()
-    flat = flatten_model(spec, list(lib_dirs))
+    library = Library(lib_dirs) if library is None else library
+    flat = flatten_resolved(resolve_model(spec, library), library)
     return flat, {"parse+flatten": time.perf_counter() - began}
 
 
 def compile_flat(flat: FlatSystem, timings: dict[str, float] | None = None) -> Compilation:
+    from compiler.lower.state_set_variants import build_variant, monitored_levels
+    from compiler.lower.to_casadi import lower
+    from compiler.model.model_check import require_standalone
+    from compiler.structure.reduce import StructureReport, analyse, reduce
+
     timings = dict(timings or {})
     report = StructureReport()
     began = time.perf_counter()
@@ -56,6 +76,56 @@ def compile_flat(flat: FlatSystem, timings: dict[str, float] | None = None) -> C
     return Compilation(flat, reduced, model, report, timings, analysis, variant)
 
 
-def compile_spec(spec: str, lib_dirs: Sequence[str] = ()) -> Compilation:
-    flat, timings = flatten_spec(spec, lib_dirs)
+def compile_spec(spec: str, lib_dirs: Sequence[str] = (), *, library: Library | None = None) -> Compilation:
+    flat, timings = flatten_spec(spec, lib_dirs, library=library)
     return compile_flat(flat, timings)
+
+
+def compile_or_load(spec: str, lib_dirs: Sequence[str] = (), *,
+                    cache: bool = True) -> Compilation | CachedCompilation:
+    """The compiled model of `spec`: from the compilation cache when every source it was compiled
+    from is unchanged (a CachedCompilation: model only), else compiled (a Compilation, stored in
+    the cache unless its state set may switch during a run, which needs the symbolic stages).
+    `cache=False` or DYADC_CACHE_DIR=off: compile, read and write nothing."""
+    if not cache:
+        return compile_spec(spec, lib_dirs)
+    from compiler.cache import models
+    from compiler.cache.store import CacheError
+    try:
+        found = models.load(spec, lib_dirs)
+    except (OSError, CacheError) as err:
+        warnings.warn(f"compilation cache not used: {err}", CacheWarning, stacklevel=2)
+        return compile_spec(spec, lib_dirs)
+    if found is not None:
+        return found
+    from compiler.cache.recording import RecordingLibrary
+    started = time.time_ns()
+    library = RecordingLibrary(lib_dirs)
+    compilation = compile_spec(spec, lib_dirs, library=library)
+    if compilation.dynamic:
+        return compilation
+    began = time.perf_counter()
+    try:
+        compilation.cache_key = models.store(spec, lib_dirs, library.inputs(), compilation,
+                                             start_notes(compilation), started)
+    except (OSError, CacheError) as err:
+        warnings.warn(f"compilation cache not written: {err}", CacheWarning, stacklevel=2)
+    compilation.timings["cache write"] = time.perf_counter() - began
+    return compilation
+
+
+def start_notes(compilation: Compilation | CachedCompilation) -> list[str]:
+    """The note on start values chosen for an under-determined initialization, if any (as
+    compiler.testing.golden.initialization_notes); a cached compilation kept it."""
+    if not isinstance(compilation, Compilation):
+        return list(compilation.notes)
+    from compiler.structure.initialization import describe_chosen
+    chosen = compilation.reduced.initial.chosen
+    return [describe_chosen(chosen)] if chosen else []
+
+
+def recompile(cached: CachedCompilation) -> Compilation:
+    """The full compilation behind a cached one, for what only the sources can tell."""
+    compilation = compile_spec(cached.spec, cached.lib_dirs)
+    compilation.timings = {**cached.timings, **compilation.timings}
+    return compilation

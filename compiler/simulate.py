@@ -4,17 +4,19 @@ from __future__ import annotations
 
 import time
 from contextlib import contextmanager
-from typing import Iterator
+from typing import TYPE_CHECKING, Iterator, Mapping
 
 from compiler import runtime
-from compiler.errors import DyadError, Note, SimulationError
-from compiler.lower.to_casadi import lower
+from compiler.errors import DyadError, Note, SimulationError, Span
 from compiler.runtime import CompiledModel, Result
-from compiler.structure.reduced import ReducedSystem
+
+if TYPE_CHECKING:
+    from compiler.structure.reduced import ReducedSystem
 
 
 def compile_model(reduced: ReducedSystem, codegen: str | None = None) -> CompiledModel:
     """Lower `reduced`; `codegen='c'` compiles the DAE to a shared library (see ccodegen)."""
+    from compiler.lower.to_casadi import lower
     began = time.perf_counter()
     model = lower(reduced)
     if codegen not in (None, "", "none", "vm"):
@@ -45,7 +47,15 @@ def runtime_errors(reduced: ReducedSystem | None = None, flat=None) -> Iterator[
     declaration."""
     try:
         yield
-    except runtime.InitializationFailed as err:
+    except (runtime.InitializationFailed, runtime.SimulationFailed, runtime.ModelInputError) as err:
+        raise translate_runtime_error(err, reduced, _declarations(flat)) from None
+
+
+def translate_runtime_error(err: Exception, reduced: ReducedSystem | None = None,
+                            declarations: Mapping[str, Span] | None = None) -> DyadError:
+    """The DyadError for a runtime failure: initial residuals located with `reduced`, a failure
+    naming a variable at its declaration in `declarations` (name -> span)."""
+    if isinstance(err, runtime.InitializationFailed):
         origins = reduced.initial.origins if reduced is not None else []
         notes = []
         for index, value, label in err.worst:
@@ -60,27 +70,27 @@ def runtime_errors(reduced: ReducedSystem | None = None, flat=None) -> Iterator[
                                 hint="check the initial equations and values named in the notes; "
                                      "guesses only seed the solver")
         error.notes = notes
-        raise error from None
-    except runtime.SimulationFailed as err:
+        return error
+    if isinstance(err, runtime.SimulationFailed):
         error = SimulationError(str(err), err.time_reached, err.reason,
                                 hint="check the model near that time: an algebraic equation may have lost its "
                                      "solution or a variable left its valid range; a stiff run "
                                      "may need a larger max_steps")
         error.partial = err.partial
-        span = _declaration(flat, err.variable)
+        span = (declarations or {}).get(err.variable) if err.variable is not None else None
         if span is not None:
             error.notes = [Note(f"`{err.variable}` is declared here", span)]
-        raise error from None
-    except runtime.ModelInputError as err:
-        raise DyadError(str(err)) from None
+        return error
+    return DyadError(str(err))
 
 
-
-def _declaration(flat, name: str | None):
-    """The source span of the declaration of variable `name` in `flat`, when known."""
-    if flat is None or name is None:
+def _declarations(flat) -> dict[str, Span] | None:
+    """name -> declaration span of `flat`'s variables (built only when a run failed)."""
+    if flat is None:
         return None
+    spans = {}
     for variable in flat.variables:
-        if variable.name == name:
-            return getattr(variable.origin, "span", None)
-    return None
+        span = getattr(variable.origin, "span", None)
+        if span is not None:
+            spans.setdefault(variable.name, span)
+    return spans

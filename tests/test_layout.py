@@ -9,7 +9,7 @@ import compiler
 
 PACKAGE = Path(compiler.__file__).resolve().parent
 STAGES = {"syntax", "model", "structure", "lower", "runtime", "testing", "render", "sweep", "components",
-          "analysis"}
+          "analysis", "cache"}
 ON_TOP = {"__init__", "__main__", "api", "cli", "cli_options", "cli_outputs", "errors", "inspect_report",
           "pipeline", "simulate"}
 

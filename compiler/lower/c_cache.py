@@ -1,8 +1,12 @@
 """The cache of compiled C libraries (`--codegen c`): one validated entry per content key.
 
-Folder: $DYADC_CACHE or ~/.cache/dyadc, made private (mode 0700); a folder owned by another user
-is refused. An entry is `dyad_<key>.so` plus `dyad_<key>.json`, which records the library's size
-and SHA-256 and is written after it: a library is used only when both agree. A truncated library
+Folder: `c/` in the compilation cache (compiler/cache/store.py: $DYADC_CACHE_DIR, else the user's
+cache directory), or $DYADC_CACHE when set (the older name, for this folder alone); made private
+(mode 0700), a folder owned by another user is refused. With the cache turned off
+(DYADC_CACHE_DIR=off) libraries are built in a temporary folder removed when the process ends.
+
+An entry is `dyad_<key>.so` (mode 0700) plus `dyad_<key>.json` (0600), which records the
+library's size and SHA-256 and is written after it: a library is used only when both agree. A truncated library
 would otherwise be mapped by dlopen and kill the process with SIGBUS on first use; an empty one
 failed to load on every run and left the model on the slow virtual machine for good.
 
@@ -13,47 +17,39 @@ running, so every leftover build folder or temp file is from a run that was kill
 """
 from __future__ import annotations
 
+import atexit
 import contextlib
 import hashlib
 import json
 import os
 import shutil
-import stat
 import tempfile
 from pathlib import Path
-from typing import Callable, Iterator
+from typing import Callable
 
-try:
-    import fcntl
-except ImportError:      # no advisory locks (Windows): atomic replaces still keep entries whole
-    fcntl = None
+from compiler.cache.store import CacheError, cache_root, folder_lock, private_folder
+
+C_CACHE_VARIABLE = "DYADC_CACHE"
 
 ENTRY_FORMAT = 1
 BUILD_PREFIX = "build-"
 _OLD_BUILD_PREFIX = "dyadc-cc-"        # build folders of dyadc versions before the validated cache
 
-
-class CacheError(RuntimeError):
-    """The cache folder cannot be used (owned by someone else, not a folder, ...)."""
+__all__ = ["CacheError", "cache_dir", "discard", "fetch_or_build", "private_folder", "valid_entry"]
+_scratch_cache: list[Path] = []       # the temporary folder used while the cache is turned off
 
 
 def cache_dir() -> Path:
-    configured = os.environ.get("DYADC_CACHE")
-    return Path(configured) if configured else Path.home() / ".cache" / "dyadc"
-
-
-def private_folder(folder: Path) -> Path:
-    """`folder`, created if missing, owned by this user and closed to everyone else (0700)."""
-    folder.mkdir(mode=0o700, parents=True, exist_ok=True)
-    info = folder.stat()
-    if not stat.S_ISDIR(info.st_mode):
-        raise CacheError(f"the C cache {folder} is not a folder")
-    if hasattr(os, "getuid") and info.st_uid != os.getuid():
-        raise CacheError(f"the C cache {folder} belongs to another user; set DYADC_CACHE to a "
-                         "folder of your own")
-    if stat.S_IMODE(info.st_mode) & 0o077:
-        folder.chmod(0o700)
-    return folder
+    configured = os.environ.get(C_CACHE_VARIABLE)
+    if configured:
+        return Path(configured)
+    root = cache_root()
+    if root is not None:
+        return root / "c"
+    if not _scratch_cache:
+        _scratch_cache.append(Path(tempfile.mkdtemp(prefix="dyadc-c-")))
+        atexit.register(shutil.rmtree, _scratch_cache[0], True)
+    return _scratch_cache[0]
 
 
 def library_path(folder: Path, key: str) -> Path:
@@ -102,6 +98,7 @@ def fetch_or_build(folder: Path, key: str, build: Callable[[Path], Path]) -> tup
             built = build(scratch)
             library = library_path(folder, key)
             record = {"format": ENTRY_FORMAT, "size": built.stat().st_size, "sha256": _sha256(built)}
+            built.chmod(0o700)                    # private, like everything in the cache
             os.replace(built, library)
             _replace_text(_record_path(folder, key), json.dumps(record, sort_keys=True) + "\n")
         finally:
@@ -141,20 +138,13 @@ def _make_scratch(folder: Path) -> str:
 def _replace_text(path: Path, text: str) -> None:
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     try:
-        tmp.write_text(text, encoding="utf-8")
+        with os.fdopen(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600), "w",
+                       encoding="utf-8") as out:
+            out.write(text)
         os.replace(tmp, path)
     finally:
         tmp.unlink(missing_ok=True)
 
 
-@contextlib.contextmanager
-def _build_lock(folder: Path) -> Iterator[None]:
-    if fcntl is None:
-        yield
-        return
-    descriptor = os.open(folder / ".lock", os.O_RDWR | os.O_CREAT, 0o600)
-    try:
-        fcntl.flock(descriptor, fcntl.LOCK_EX)       # released by the kernel if this process dies
-        yield
-    finally:
-        os.close(descriptor)
+def _build_lock(folder: Path) -> contextlib.AbstractContextManager[None]:
+    return folder_lock(folder)       # released by the kernel if this process dies

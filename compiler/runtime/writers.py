@@ -147,9 +147,10 @@ def check_table_writer(path: str | os.PathLike) -> None:
 
 # ------------------------------------------------------------------------------------------- atomic
 
-def atomic_write(path: str | os.PathLike, write: Callable[[str], None]) -> None:
+def atomic_write(path: str | os.PathLike, write: Callable[[str], None], mode: int | None = None) -> None:
     """`write(temp)` into a sibling temporary that then replaces `path`; the temporary keeps the
-    extension (some writers append theirs otherwise) and is removed on any failure."""
+    extension (some writers append theirs otherwise) and is removed on any failure. `mode`: the
+    file's permissions (default: what a plain open() gives; the compilation cache asks 0o600)."""
     target = os.path.abspath(os.fspath(path))
     directory, base = os.path.split(target)
     os.makedirs(directory, exist_ok=True)
@@ -161,7 +162,7 @@ def atomic_write(path: str | os.PathLike, write: Callable[[str], None]) -> None:
         with open(temp, "rb+") as written:
             os.fsync(written.fileno())
         # mkstemp makes the file private (0600); the output gets the mode a plain open() gives
-        os.chmod(temp, 0o666 & ~_umask())
+        os.chmod(temp, 0o666 & ~_umask() if mode is None else mode)
         os.replace(temp, target)
     except BaseException:
         try:

@@ -1,0 +1,169 @@
+"""Compiled models in the cache: `<root>/models/<lookup key>.manifest` lists the inputs a compile
+read with their fingerprints and names the entry `<root>/models/<entry key>.model`, which holds
+the serialized CompiledModel (CompiledModel.to_dict, as sweeps ship it to workers) and what a run
+needs from the sources besides: the parameters that must be given a value, and where variables
+are declared (to locate a failure). Both files are sealed (store.py): a damaged one is a miss.
+
+Loading imports the runtime (casadi, numpy) and this package only: no sympy, no lark.
+"""
+from __future__ import annotations
+
+import dataclasses
+import json
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Sequence
+
+from compiler.cache import keys
+from compiler.cache.store import cache_root, private_folder, read_sealed, write_sealed
+from compiler.errors import Span
+from compiler.runtime import CompiledModel
+
+ENTRY_FORMAT = 1
+MODELS_FOLDER = "models"
+MANIFEST_SUFFIX = ".manifest"
+ENTRY_SUFFIX = ".model"
+# A source modified this close to (or after) the start of the compile that read it may not be
+# the version that was read: such a compile is not stored (mtime granularity is a few ms).
+MTIME_MARGIN_NS = 20_000_000
+
+
+@dataclass
+class CachedCompilation:
+    """A compilation read from the cache: the compiled model without the symbolic stages.
+    Anything that needs those (a located error at the start of a run) compiles from source
+    (compiler.pipeline.recompile)."""
+    model: CompiledModel
+    spec: str
+    lib_dirs: tuple[str, ...]
+    key: str
+    needs_values: list[str]                         # used parameters declared without a value
+    declarations: dict[str, Span]                   # variable name -> where it is declared
+    notes: list[str]                                # what `dyadc simulate` prints before the run
+    timings: dict[str, float] = field(default_factory=dict)
+
+    dynamic = False                                 # state-set-switching models are not cached
+
+    @property
+    def cache_key(self) -> str:
+        return self.key
+
+
+def models_folder(root: Path | None = None) -> Path | None:
+    root = cache_root() if root is None else root
+    return None if root is None else root / MODELS_FOLDER
+
+
+def request_key(spec: str, lib_dirs: Sequence[str]) -> str:
+    """The lookup key: the spec, the search path (a bad -L folder is the usual located error)
+    and the compiler."""
+    from compiler.model.library_path import search_path
+    roots = [(str(r.path), r.origin, r.runs_code) for r in search_path(lib_dirs)]
+    return keys.lookup_key(spec, roots, {"entry format": ENTRY_FORMAT})
+
+
+def load(spec: str, lib_dirs: Sequence[str] = ()) -> CachedCompilation | None:
+    """The cached compilation of `spec` if every source it read is unchanged, else None."""
+    folder = models_folder()
+    if folder is None:
+        return None
+    began = time.perf_counter()
+    lookup = request_key(spec, lib_dirs)
+    manifest = _read_json(folder / f"{lookup}{MANIFEST_SUFFIX}")
+    if manifest is None or manifest.get("format") != ENTRY_FORMAT:
+        return None
+    try:
+        recorded = [(str(kind), str(path), str(value)) for kind, path, value in manifest["inputs"]]
+    except (KeyError, TypeError, ValueError):
+        return None
+    if any(keys.fingerprint(kind, path) != value for kind, path, value in recorded):
+        return None
+    key = keys.entry_key(lookup, recorded)
+    if key != manifest.get("entry"):
+        return None
+    found = read_entry(key, folder)
+    if found is None:
+        return None
+    model, needs_values, declarations, notes = found
+    return CachedCompilation(model, spec, tuple(lib_dirs), key, needs_values, declarations, notes,
+                             {"cache": time.perf_counter() - began})
+
+
+def read_entry(key: str, folder: Path | None = None) -> tuple[CompiledModel, list, dict, list] | None:
+    """(model, parameters needing values, declarations, notes) of entry `key`, or None if it is
+    missing or damaged."""
+    folder = models_folder() if folder is None else folder
+    if folder is None:
+        return None
+    data = _read_json(folder / f"{key}{ENTRY_SUFFIX}")
+    if data is None or data.get("format") != ENTRY_FORMAT:
+        return None
+    try:
+        model = CompiledModel.from_dict(data["model"])
+        declarations = {name: Span(**span) for name, span in data["declarations"].items()}
+        return (model, [str(n) for n in data["needs_values"]], declarations,
+                [str(n) for n in data["notes"]])
+    except Exception:         # a sealed entry that does not rebuild (another CasADi): a miss
+        return None
+
+
+def store(spec: str, lib_dirs: Sequence[str], inputs: list[keys.Input], compilation,
+          notes: list[str], started_ns: int) -> str | None:
+    """Write `compilation` and its `notes` (from a compile that began at `started_ns`,
+    time.time_ns) under the hash of its inputs; its entry key, or None when the cache is off or a
+    source changed while it was being read."""
+    folder = models_folder()
+    if folder is None:
+        return None
+    if any(_modified_since(path, started_ns - MTIME_MARGIN_NS) for kind, path in inputs if kind != "folder"):
+        return None
+    lookup = request_key(spec, lib_dirs)
+    recorded = keys.fingerprints(inputs)
+    key = keys.entry_key(lookup, recorded)
+    private_folder(folder)
+    entry = {"format": ENTRY_FORMAT, "model": compilation.model.to_dict(),
+             "needs_values": _needs_values(compilation), "declarations": _declarations(compilation.flat),
+             "notes": list(notes)}
+    write_sealed(folder / f"{key}{ENTRY_SUFFIX}", _dumps(entry))
+    manifest = {"format": ENTRY_FORMAT, "spec": keys.normalized_spec(spec), "entry": key,
+                "inputs": [list(item) for item in recorded]}
+    write_sealed(folder / f"{lookup}{MANIFEST_SUFFIX}", _dumps(manifest))
+    return key
+
+
+def _needs_values(compilation) -> list[str]:
+    used = {p.name for p in compilation.reduced.parameters}
+    return sorted(p.name for p in compilation.flat.parameters
+                  if p.name in used and p.value is None and p.default is None)
+
+
+def _declarations(flat) -> dict[str, dict]:
+    out = {}
+    for variable in flat.variables:
+        span = getattr(variable.origin, "span", None)
+        if span is not None:
+            out[variable.name] = dataclasses.asdict(span)
+    return out
+
+
+def _modified_since(path: str, threshold_ns: int) -> bool:
+    try:
+        return Path(path).stat().st_mtime_ns >= threshold_ns
+    except OSError:
+        return False
+
+
+def _dumps(data: dict) -> bytes:
+    return json.dumps(data, sort_keys=True, separators=(",", ":"), allow_nan=True).encode()
+
+
+def _read_json(path: Path) -> dict | None:
+    payload = read_sealed(path)
+    if payload is None:
+        return None
+    try:
+        data = json.loads(payload)
+    except ValueError:
+        return None
+    return data if isinstance(data, dict) else None

@@ -1,0 +1,116 @@
+"""`dyadc simulate --codegen c` with the cache: the C library of a cached model is used when the
+cache has it; otherwise it is built by a second process while this one already runs the model on
+CasADi's virtual machine, and the next run uses it.
+
+The builder (a Python process running `build(ENTRY_KEY)`) reads the compiled model from the
+cache entry, generates and compiles its C code (compiler.lower.ccodegen: -O1, its validated cache
+in compiler/lower/c_cache.py, one build per library even when several processes ask) and writes
+a *link* `models/<entry key>.c-<hash of compiler and flags>.link` naming the library's key, so
+that a later run finds the library without generating C again. The run that started it waits
+for it before exiting (a few tenths of a second after a short run): the next run finds the
+library, and no process is left behind.
+"""
+from __future__ import annotations
+
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from compiler.cache import keys
+from compiler.cache.models import models_folder, read_entry
+from compiler.cache.store import read_sealed, write_sealed
+
+LINK_SUFFIX = ".link"
+
+
+def _link_path(folder: Path, entry_key: str, compiler: str) -> Path:
+    from compiler.lower.ccodegen import FLAGS
+    tag = keys.hash_text(compiler, " ".join(FLAGS))[:16]
+    return folder / f"{entry_key}.c-{tag}{LINK_SUFFIX}"
+
+
+def cached_library(entry_key: str, compiler: str) -> Path | None:
+    """The valid cached C library of entry `entry_key`, if one was built."""
+    from compiler.lower import c_cache
+    folder = models_folder()
+    if folder is None:
+        return None
+    payload = read_sealed(_link_path(folder, entry_key, compiler))
+    if payload is None:
+        return None
+    return c_cache.valid_entry(c_cache.cache_dir(), payload.decode("ascii", "replace").strip())
+
+
+class BackgroundBuild:
+    """A builder process started for one entry; `finish()` waits for it and says how it went."""
+
+    def __init__(self, entry_key: str):
+        self.began = time.perf_counter()
+        import compiler
+        # the builder imports the same compiler package as this process, whatever its folder
+        home = str(Path(compiler.__file__).resolve().parent.parent)
+        code = (f"import sys; sys.path.insert(0, {home!r}); from compiler.cache.native import build; "
+                f"raise SystemExit(build({entry_key!r}))")
+        self.process = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.DEVNULL,
+                                        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+
+    def finish(self) -> str:
+        """Wait for the builder; the line to show the user."""
+        _, errors = self.process.communicate()
+        seconds = time.perf_counter() - self.began
+        if self.process.returncode == 0:
+            return (f"built the model's C library in the background ({seconds:.1f} s); the next run "
+                    f"with --codegen c uses it")
+        lines = (errors or "").strip().splitlines()
+        if lines and "unavailable" in lines[-1]:
+            return f"warning: {lines[-1]}"
+        why = lines[-1] if lines else f"the builder stopped with exit status {self.process.returncode}"
+        return f"warning: C code generation unavailable ({why}); this run used the CasADi virtual machine"
+
+
+def use_c_code(compilation, cache: bool = True) -> BackgroundBuild | None:
+    """Put `compilation` on C code: the cached library at once, else (from the cache) a build in
+    the background while this run uses the virtual machine; without the cache, or for a model
+    the cache does not hold (one whose state set may switch), the library is built now."""
+    from compiler.lower import ccodegen
+    compiler = ccodegen.find_compiler()
+    key = getattr(compilation, "cache_key", None)
+    if not cache or key is None or compiler is None or models_folder() is None:
+        compilation.model = ccodegen.use_c_code(compilation.model)
+        return None
+    library = cached_library(key, compiler)
+    if library is not None:
+        native = compilation.model.with_native_library(library)
+        try:
+            native.native_dae()                # a library that does not load is rebuilt
+        except (RuntimeError, ValueError):
+            from compiler.lower import c_cache
+            c_cache.discard(c_cache.cache_dir(), library.stem.removeprefix("dyad_"))
+        else:
+            compilation.model = native.replace(metadata={**native.metadata, "codegen": "c"})
+            return None
+    return BackgroundBuild(key)
+
+
+def build(entry_key: str) -> int:
+    """The builder process: compile the C library of entry `entry_key` and link it."""
+    import warnings
+    from compiler.lower import ccodegen
+    found = read_entry(entry_key)
+    compiler = ccodegen.find_compiler()
+    folder = models_folder()
+    if found is None or compiler is None or folder is None:
+        print("the cache entry or the C compiler is gone", file=sys.stderr)
+        return 1
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", ccodegen.CodegenWarning)
+        native = ccodegen.compile_c(found[0])
+    if native.native_library is None:
+        why = next((str(w.message) for w in caught if issubclass(w.category, ccodegen.CodegenWarning)),
+                   "no library")
+        print(why, file=sys.stderr)
+        return 1
+    library = Path(native.native_library)
+    write_sealed(_link_path(folder, entry_key, compiler), library.stem.removeprefix("dyad_").encode("ascii"))
+    return 0
