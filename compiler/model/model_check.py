@@ -32,10 +32,10 @@ class Verdict:
     open_connectors: tuple[str, ...] = ()     # physical connectors of the model itself
     open_inputs: tuple[str, ...] = ()         # its input signals
     declared_partial: bool = False
-    declared_external: bool = False           # `external component`: equations written in Julia
     component_equations: int = 0              # without the zero flows of its open connectors
     component_unknowns: int = 0               # without those flows and its inputs
     reason: DyadError | None = None           # why it cannot run on its own (None: it can)
+    declared_external: bool = False           # `external component`: equations written in Julia
 
     @property
     def is_partial(self) -> bool:
@@ -102,8 +102,9 @@ def assess(flat: FlatSystem) -> Verdict:
                      if e.kind == "unconnected_flow" and e.residual.is_Symbol and e.residual.name in top_flows)
     unknowns = len(unknown_names(flat, closed=True))
     verdict = Verdict(flat.name, len(flat.equations), unknowns, open_connectors, open_inputs,
-                      bool(flat.metadata.get("declared_partial")),
-                      len(flat.equations) - zero_flows, unknowns - len(top_flows) - len(open_inputs))
+                      declared_partial=bool(flat.metadata.get("declared_partial")),
+                      component_equations=len(flat.equations) - zero_flows,
+                      component_unknowns=unknowns - len(top_flows) - len(open_inputs))
     if flat.metadata.get("declared_external"):
         # its relations live in Julia: the interface instantiated, nothing more can be counted
         return replace(verdict, declared_external=True, reason=DyadError(
