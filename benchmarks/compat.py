@@ -206,7 +206,7 @@ class Runner:
         run.update(simulated=rc == 0, reason="" if rc == 0 else error)
 
 
-_TUBE = re.compile(r"\(final value\): signal (?P<signal>\S+) leaves its tube at t = \S+: "
+_TUBE = re.compile(r"\((?P<when>final|initial) value\): signal (?P<signal>\S+) leaves its tube at t = \S+: "
                    r"got (?P<got>\S+), golden (?P<want>\S+), .* tolerance (?P<tol>\S+)")
 
 
@@ -225,7 +225,7 @@ def _case_verdicts(out: str) -> dict[str, dict]:
             tube = _TUBE.search(body)
             if tube:
                 verdicts[current]["compared"] = True
-                body = (f"final value of `{tube['signal']}` differs from the published value: "
+                body = (f"{tube['when']} value of `{tube['signal']}` differs from the published value: "
                         f"got {tube['got']}, published {tube['want']}, tolerance {tube['tol']}")
             if not verdicts[current]["detail"] and body and not body.startswith("signal "):
                 verdicts[current]["detail"] = body.removeprefix("error: ")
