@@ -23,7 +23,7 @@ from .initialization import consistent_initialization, restart_point
 from .integrator import COUNTERS, IdasIntegrator
 from .model import CompiledModel
 from .options import SimulationOptions
-from .outputs import evaluate_outputs, polish_algebraics
+from .outputs import evaluate_outputs, polish_algebraics, signals_at
 from .progress import Progress
 from .result import Result
 from .state_sets import SWITCH_RATIO, state_selection_quality
@@ -51,7 +51,8 @@ class _Run:
     def __init__(self, model: CompiledModel, options: SimulationOptions, switcher):
         self.options = options
         self.switcher = switcher
-        self.public = list(switcher.public_names) if switcher is not None else list(model.output_names)
+        self.public = options.chosen_signals(list(switcher.public_names) if switcher is not None
+                                             else list(model.output_names))
         self.grid = options.grid()
         self.values = np.full((len(self.public), len(self.grid)), np.nan)
         self.counters = {v: 0 for v in COUNTERS.values()}
@@ -67,7 +68,8 @@ class _Run:
         key = id(model)
         if key not in self.integrators:
             atol = self.options.atol
-            watch = build_watch(model, float(atol.get("*", 1e-6)) if isinstance(atol, Mapping) else float(atol))
+            base = float(atol.get("*", 1e-6)) if isinstance(atol, Mapping) else float(atol)
+            watch = model.derived(("watch", base), lambda: build_watch(model, base))   # once per model
             opts = integrator_options(model, self.options.rtol, self.options.atol,
                                       self.options.max_steps, self.options.idas_options())
             public_index = [model.output_index(n) for n in self.public]
@@ -88,8 +90,7 @@ class _Run:
         for model, public_index, chunks in self.pending.values():
             xs, zs, ps, columns = (np.concatenate([c[i] for c in chunks], axis=-1) for i in range(4))
             times = self.grid[columns]
-            zs = polish_algebraics(model, xs, zs, ps, times)
-            self.values[:, columns] = evaluate_outputs(model, xs, zs, ps, times)[public_index]
+            self.values[:, columns] = signals_at(model, xs, zs, ps, times, public_index)
         self.pending = {}
 
     def add(self, counters: Mapping) -> None:
@@ -464,5 +465,6 @@ def _all_outputs(model: CompiledModel, x, z, p, t: float) -> np.ndarray:
 
 def _outputs_at(run: _Run, model: CompiledModel, x, z, p, t: float) -> np.ndarray:
     index = [model.output_index(n) for n in run.public]
-    return _all_outputs(model, x, z, p, t)[index]
+    return signals_at(model, np.asarray(x).reshape(-1, 1), np.asarray(z).reshape(-1, 1), p, np.array([t]),
+                      index)[:, 0]
 

@@ -10,6 +10,8 @@ zero function depends on an algebraic unknown.
 from __future__ import annotations
 
 import math
+import threading
+from collections import OrderedDict
 from dataclasses import dataclass, field
 from typing import Mapping, Protocol, Sequence
 
@@ -35,9 +37,37 @@ class Segment:
 
 class Integrator(Protocol):
     def run(self, t0: float, times: Sequence[float], x0: np.ndarray, z0: np.ndarray,
-            p: np.ndarray, consistent: bool = False) -> Segment: ...
+            p: np.ndarray, consistent: bool = False, step0: float | None = None) -> Segment: ...
 
     def run_to(self, t0: float, t1: float, x0: np.ndarray, z0: np.ndarray, p: np.ndarray) -> Segment: ...
+
+
+SOLVERS_KEPT = 32        # IDAS objects kept per model: a few runs' segments (a sweep repeats one grid)
+
+
+class _Solvers:
+    """IDAS objects of one model by (time scaling, t0, output times, options), least recently
+    used dropped first. Building one costs more than a short segment's integration (excavator,
+    CPU: 4-6 ms on the VM, where CasADi derives the DAE's Jacobian again for every integrator; 1 ms
+    in C), and a repeated run (a sweep, a benchmark) asks for the same segments again; the
+    parameters and the initial point are inputs of the call, not part of the object."""
+
+    def __init__(self):
+        self._lock = threading.Lock()
+        self._solvers: OrderedDict = OrderedDict()
+
+    def get(self, key, build):
+        with self._lock:
+            solver = self._solvers.get(key)
+            if solver is not None:
+                self._solvers.move_to_end(key)
+                return solver
+        solver = build()
+        with self._lock:
+            self._solvers[key] = solver
+            while len(self._solvers) > SOLVERS_KEPT:
+                self._solvers.popitem(last=False)
+        return solver
 
 
 class IdasIntegrator:
@@ -46,28 +76,31 @@ class IdasIntegrator:
     def __init__(self, model: CompiledModel, options: Mapping):
         self.model = model
         self.options = dict(options)
-        self.dae = _dae_function(model, scaled_time=False)
-        self._unit_step: ca.Function | None = None
+        self.dae = model.derived("idas_dae", lambda: _dae_function(model, scaled_time=False))
+        self._solvers = model.derived("idas_solvers", _Solvers)
 
     def run(self, t0: float, times: Sequence[float], x0: np.ndarray, z0: np.ndarray,
-            p: np.ndarray, consistent: bool = False) -> Segment:
+            p: np.ndarray, consistent: bool = False, step0: float | None = None) -> Segment:
         """`consistent`: (x0, z0) solve the algebraic equations already, so IDAS starts from
-        der(x) = ode(x0, z0) instead of its own initial-condition search."""
-        options = self.options
+        der(x) = ode(x0, z0) instead of its own initial-condition search. `step0`: IDAS's first
+        step (its own choice depends on the first output time, so on the output grid)."""
+        options = self.options if step0 is None else dict(self.options, step0=float(step0))
         if consistent:
             xdot = np.asarray(self.model.dae(x0, z0, p, t0)[0], dtype=float).reshape(-1)
             options = dict(options, calc_ic=False, init_xdot=list(xdot))
-        solver = _make(self.model, self.dae, t0, [float(v) for v in times], options)
+        times = [float(v) for v in times]
+        solver = self._solvers.get((False, float(t0), tuple(times), _options_key(options)),
+                                   lambda: _make(self.model, self.dae, t0, times, options))
         return self._call(solver, x0, z0, p, len(times), lambda tau: tau)
 
     def run_to(self, t0: float, t1: float, x0: np.ndarray, z0: np.ndarray, p: np.ndarray) -> Segment:
         """One short run from t0 to t1 only (a root search calls this often): the integrator is
         built once, in scaled time t = t0 + (t1 - t0) tau over tau in [0, 1]."""
-        if self._unit_step is None:
-            self._unit_step = _make(self.model, _dae_function(self.model, scaled_time=True), 0.0,
-                                    [1.0], self.options)
+        unit_step = self._solvers.get(
+            (True, 0.0, (1.0,), _options_key(self.options)),
+            lambda: _make(self.model, _dae_function(self.model, scaled_time=True), 0.0, [1.0], self.options))
         pp = np.concatenate([p, [t0, t1 - t0]])
-        return self._call(self._unit_step, x0, z0, pp, 1, lambda tau: t0 + (t1 - t0) * tau)
+        return self._call(unit_step, x0, z0, pp, 1, lambda tau: t0 + (t1 - t0) * tau)
 
     def _call(self, solver, x0, z0, p, n: int, model_time) -> Segment:
         model = self.model
@@ -113,6 +146,10 @@ def _dae_function(model: CompiledModel, scaled_time: bool) -> ca.Function:
     empty = ca.SX(0, 1) if native is None else ca.MX(0, 1)
     return ca.Function("dyad_dae", [t, x, z, p_in, u], [span * ode, alg, empty, empty],
                        ca.dyn_in(), ca.dyn_out())
+
+
+def _options_key(options: Mapping) -> str:
+    return repr(sorted(options.items()))
 
 
 def _make(model: CompiledModel, dae: ca.Function, t0: float, times: list[float], opts: dict):

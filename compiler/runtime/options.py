@@ -10,7 +10,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from .errors import ModelInputError
+from .errors import ModelInputError, did_you_mean
 
 MAX_OUTPUT_POINTS = 10_000_000
 SMALLEST_TOLERANCE = 1e-100   # below this a tolerance means nothing to IDAS (atol 1e-300 never ends)
@@ -31,6 +31,7 @@ class SimulationOptions:
     breakpoints: Sequence[float] | None = None  # more time events, besides the model's own
     integrator_options: Mapping | None = None   # passed to CasADi's IDAS interface as they are
     progress: bool | None = None                # None: a bar on a terminal for long runs
+    signals: Sequence[str] | None = None        # the outputs to compute (None: every output)
 
     def validated(self) -> "SimulationOptions":
         start, stop = _finite("start", self.start), _finite("stop", self.stop)
@@ -84,6 +85,25 @@ class SimulationOptions:
                 grid = np.concatenate([[self.start], grid])
             return grid
         return np.linspace(self.start, self.stop, int(self.points))
+
+    def chosen_signals(self, available: Sequence[str]) -> list[str]:
+        """The signals a run computes: `signals` in the order given (duplicates and "time"
+        dropped), or every one of `available`. An unknown name is an error with a suggestion."""
+        if self.signals is None:
+            return list(available)
+        if isinstance(self.signals, str):
+            raise ModelInputError(f"signals must be a list of names, not the string {self.signals!r}")
+        known = set(available)
+        chosen: list[str] = []
+        for name in self.signals:
+            if not isinstance(name, str):
+                raise ModelInputError(f"signals must be names, got {name!r}")
+            if name == "time" or name in chosen:
+                continue
+            if name not in known:
+                raise ModelInputError(f"unknown signal '{name}'" + did_you_mean(name, list(available)))
+            chosen.append(name)
+        return chosen
 
     def show_progress(self) -> bool:
         return sys.stderr.isatty() if self.progress is None else bool(self.progress)

@@ -17,7 +17,8 @@ import numpy as np
 
 from .model import CompiledModel
 
-BLOCK = 64            # points per mapped call; a shorter remainder is evaluated point by point
+BLOCK = 64            # points per mapped call
+SMALL_BLOCK = 8       # points per call of the remainder; what remains of it goes point by point
 
 
 class PointwiseEvaluator:
@@ -30,7 +31,10 @@ class PointwiseEvaluator:
             raise ValueError(f"{function.name()} takes {function.n_in()} inputs, not (x, z, p, t)")
         self.function = function
         self.block = block
-        self.mapped = function.map(f"{function.name()}_block", "serial", block, [2], [])
+        # (points per call, function): whole blocks first, then small blocks, then single points
+        self.widths = [(width, function.map(f"{function.name()}_{width}", "serial", width, [2], []))
+                       for width in sorted({block, SMALL_BLOCK}, reverse=True) if width > 1]
+        self.widths.append((1, function))
         self.sizes_in = [function.nnz_in(i) for i in range(4)]
         self.dense_rows = [function.numel_out(j) for j in range(function.n_out())]
         # where each stored entry of an output goes in the dense column (None: already dense)
@@ -39,17 +43,19 @@ class PointwiseEvaluator:
                         for j in range(function.n_out())]
 
     def evaluate(self, xs: np.ndarray, zs: np.ndarray, p: np.ndarray, times) -> list[np.ndarray]:
-        times = np.asarray(times, dtype=float).reshape(-1)
+        times = np.ascontiguousarray(np.asarray(times, dtype=float).reshape(-1))
         n = len(times)
+        # one point per row of a C-ordered array = CasADi's column-major layout of a mapped input
         columns = [np.ascontiguousarray(np.asarray(xs, dtype=float).reshape(self.sizes_in[0], n).T),
                    np.ascontiguousarray(np.asarray(zs, dtype=float).reshape(self.sizes_in[1], n).T)]
         shared = np.ascontiguousarray(np.asarray(p, dtype=float).reshape(-1))
         stored = [np.empty((n, self.function.nnz_out(j))) for j in range(self.function.n_out())]
-        full = n - n % self.block
-        if full:
-            self._run(self.mapped, self.block, columns, shared, times, stored, 0, full)
-        if n > full:
-            self._run(self.function, 1, columns, shared, times, stored, full, n)
+        done = 0
+        for width, function in self.widths:
+            upto = done + (n - done) // width * width
+            if upto > done:
+                self._run(function, width, columns, shared, times, stored, done, upto)
+            done = upto
         out = []
         for j, values in enumerate(stored):
             if self.scatter[j] is not None:
@@ -61,22 +67,18 @@ class PointwiseEvaluator:
 
     @staticmethod
     def _run(function: ca.Function, width: int, columns, shared, times, stored, first: int, last: int):
-        """Evaluate `function` (one point, or a map of `width` points) over points first..last."""
+        """Evaluate `function` (one point, or a map of `width` points) over points first..last,
+        reading and writing the rows of the arrays in place (each block's rows are contiguous)."""
         buffer, call = function.buffer()
-        inputs = [np.empty((width, c.shape[1])) for c in columns] + [shared, np.empty(width)]
-        results = [np.empty((width, s.shape[1])) for s in stored]
-        for i, array in enumerate(inputs):
-            buffer.set_arg(i, memoryview(array))
-        for j, array in enumerate(results):
-            buffer.set_res(j, memoryview(array))
+        buffer.set_arg(2, memoryview(shared))
         for start in range(first, last, width):
             stop = start + width
-            inputs[0][:] = columns[0][start:stop]
-            inputs[1][:] = columns[1][start:stop]
-            inputs[3][:] = times[start:stop]
+            buffer.set_arg(0, memoryview(columns[0][start:stop]))
+            buffer.set_arg(1, memoryview(columns[1][start:stop]))
+            buffer.set_arg(3, memoryview(times[start:stop]))
+            for j, array in enumerate(stored):
+                buffer.set_res(j, memoryview(array[start:stop]))
             call()
-            for j, array in enumerate(results):
-                stored[j][start:stop] = array
 
 
 def evaluator(model: CompiledModel, key, build) -> PointwiseEvaluator:
@@ -117,21 +119,36 @@ def polish_algebraics(model: CompiledModel, xs: np.ndarray, zs: np.ndarray, p: n
 
 
 def _polish_run(model: CompiledModel, xs, z, p, times, iterations: int) -> np.ndarray:
+    """The Newton steps on points that share p; r and its Jacobian are evaluated once per point
+    and iterate (at an accepted candidate they are the candidate's), the last candidate's residual
+    without the Jacobian, which no further step needs."""
     newton = evaluator(model, ("algebraic_newton",), model.algebraic_newton)
+    residual = evaluator(model, ("algebraic_residual",), lambda: _residual_function(model))
     nz, n = z.shape
     r, jac = newton.evaluate(xs, z, p, times)
-    for _ in range(iterations):
+    for iteration in range(iterations):
         matrices = jac.T.reshape(n, nz, nz).transpose(0, 2, 1)       # column-major per point
         try:
             step = np.linalg.solve(matrices, r.T[:, :, None])[:, :, 0].T
         except np.linalg.LinAlgError:
             return z
         candidate = z - step
-        r_new, jac_new = newton.evaluate(xs, candidate, p, times)
+        last = iteration == iterations - 1
+        if last:
+            (r_new,) = residual.evaluate(xs, candidate, p, times)
+        else:
+            r_new, jac_new = newton.evaluate(xs, candidate, p, times)
         better = np.all(np.isfinite(r_new), axis=0) & (np.abs(r_new).max(axis=0) <= np.abs(r).max(axis=0))
         z[:, better] = candidate[:, better]
-        r[:, better], jac[:, better] = r_new[:, better], jac_new[:, better]
+        if not last:
+            r[:, better], jac[:, better] = r_new[:, better], jac_new[:, better]
     return z
+
+
+def _residual_function(model: CompiledModel) -> ca.Function:
+    """(x, z, p, t) -> alg, the same expressions as the first output of algebraic_newton."""
+    x, z, p, t = model.symbols()
+    return ca.Function("alg_residual", [x, z, p, t], [model.dae(x, z, p, t)[1]])
 
 
 def evaluate_outputs(model: CompiledModel, xs: np.ndarray, zs: np.ndarray, p: np.ndarray,
@@ -146,8 +163,11 @@ def evaluate_outputs(model: CompiledModel, xs: np.ndarray, zs: np.ndarray, p: np
     fast = evaluator(model, ("outputs", None if rows is None else tuple(int(r) for r in rows)),
                      lambda: function)
     times = np.asarray(grid, dtype=float)
+    runs = list(_parameter_runs(p, n))
+    if len(runs) == 1:
+        return fast.evaluate(xs, zs, runs[0][2], times)[0]
     out = np.empty((count, n))
-    for first, last, p_run in _parameter_runs(p, n):
+    for first, last, p_run in runs:
         out[:, first:last] = fast.evaluate(xs[:, first:last], zs[:, first:last], p_run,
                                            times[first:last])[0]
     return out
@@ -157,6 +177,9 @@ def signals_at(model: CompiledModel, xs: np.ndarray, zs: np.ndarray, p: np.ndarr
                grid: np.ndarray, rows: Sequence[int] | None = None) -> np.ndarray:
     """The outputs `rows` (default: all) at the points (xs, zs) of `grid`, z polished first when
     one of them depends on it: what a run reports."""
+    if rows is not None and len(rows) == len(model.output_names) and \
+            np.array_equal(rows, np.arange(len(rows))):
+        rows = None                                 # every output, in order: the model's own function
     _, uses_z = output_rows_function(model, rows)
     if uses_z:
         zs = polish_algebraics(model, xs, zs, p, grid)

@@ -12,6 +12,7 @@ import numpy as np
 from .checks import bound_indicators
 from .errors import ModelInputError
 from .model import CompiledModel
+from .outputs import PointwiseEvaluator
 from .state_sets import switch_indicators
 
 MAX_TIME_EVENTS = 1_000_000
@@ -28,13 +29,9 @@ class Watch:
 
     def values(self, xs: np.ndarray, zs: np.ndarray, p: np.ndarray, times) -> np.ndarray:
         """(rows x times), one vectorized call."""
-        times = np.asarray(times, dtype=float).reshape(1, -1)
-        n = times.shape[1]
-        if n not in self._maps:
-            self._maps[n] = self.function.map(n) if n > 1 else self.function
-        mapped = self._maps[n]
-        out = mapped(xs, zs, np.repeat(np.asarray(p).reshape(-1, 1), n, axis=1), times)
-        return np.asarray(out, dtype=float).reshape(len(self.labels), n)
+        if "evaluator" not in self._maps:       # numpy in and out, p shared (outputs.py)
+            self._maps["evaluator"] = PointwiseEvaluator(self.function)
+        return self._maps["evaluator"].evaluate(xs, zs, p, times)[0]
 
 
 def build_watch(model: CompiledModel, atol: float = 0.0) -> Watch | None:

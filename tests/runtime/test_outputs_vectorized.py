@@ -6,7 +6,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from compiler.runtime import CompiledModel
+from compiler.runtime import CompiledModel, ModelInputError, simulate
 from compiler.runtime.outputs import (BLOCK, PointwiseEvaluator, evaluate_outputs, output_rows_function,
                                       polish_algebraics, signals_at)
 
@@ -149,3 +149,17 @@ def test_a_model_without_algebraic_unknowns_and_short_grids(n):
     assert got.shape == (2, n)
     if n:
         np.testing.assert_array_equal(got, one_by_one(model.outputs, xs, zs, p, times))
+
+
+def test_a_run_computes_only_the_signals_asked_for_with_the_same_values():
+    model = small_model()
+    full = simulate(model, 2.0, points=41, progress=False)
+    asked = simulate(model, 2.0, points=41, progress=False, signals=["z1x1", "x0", "time", "x0"])
+    assert asked.names == ["z1x1", "x0"]
+    np.testing.assert_array_equal(asked.values, full.values[[3, 0]])
+    again = simulate(model, 2.0, points=41, progress=False)          # IDAS objects reused: same run
+    np.testing.assert_array_equal(again.values, full.values)
+    with pytest.raises(ModelInputError, match="did you mean 'z1x1'"):
+        simulate(model, 2.0, points=41, progress=False, signals=["z1x"])
+    with pytest.raises(ModelInputError, match="list of names"):
+        simulate(model, 2.0, points=41, progress=False, signals="x0")
