@@ -15,11 +15,12 @@ import math
 import os
 from contextlib import contextmanager
 from contextvars import ContextVar
-from typing import Any, Iterator
-
-import sympy
+from typing import TYPE_CHECKING, Any, Iterator
 
 from compiler.errors import DyadError, Span
+
+if TYPE_CHECKING:        # imported where powers are folded: `dyadc` itself must not import sympy
+    import sympy
 
 DEFAULT_MAX_ELEMENTS = 1_000_000
 MAX_ELEMENTS_ENV = "DYADC_MAX_ELEMENTS"
@@ -103,6 +104,7 @@ def _bits(value: sympy.Rational) -> int:
 def checked_power(base: Any, exponent: Any, span: Span | None) -> Any:
     """base ** exponent, except that an exact power of constants too large to fold exactly is
     evaluated as a float; a result beyond a float is a located error."""
+    import sympy
     if not (isinstance(base, sympy.Rational) and isinstance(exponent, sympy.Rational)):
         return base ** exponent
     if abs(base) in (0, 1) or exponent.is_zero:
