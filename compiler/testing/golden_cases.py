@@ -61,6 +61,7 @@ class TestCase:
     initial_values: dict[str, float] = field(default_factory=dict)   # the case's "initial"
     expect_initial: dict[str, float] = field(default_factory=dict)   # "expect.initial"
     default_tube: tuple[str, ...] = ()      # signals compared at Dyad's default tolerance
+    notes: tuple[str, ...] = ()             # what the reader ignored or assumed, for the report
 
     __test__ = False            # not a pytest class, despite its name
 
@@ -118,10 +119,13 @@ def _parse_case(model: str, name: str, spec: Any, span: Span | None) -> TestCase
         raise DyadError(f"{where}: a case name must be an identifier (it names the golden file)", span)
     if not isinstance(spec, dict):
         raise DyadError(f"{where} must be a JSON object", span)
+    notes = []
     unknown = sorted(set(spec) - _KNOWN_KEYS)
     if unknown:
-        raise DyadError(f"{where}: unknown key(s) {', '.join(unknown)}", span,
-                        hint="known keys: " + ", ".join(sorted(_KNOWN_KEYS)))
+        # Dyad's test generator ignores keys it does not know; so does dyadc, saying so.
+        hints = [f" (did you mean expect.{k}?)" if k in _EXPECT_KEYS else "" for k in unknown]
+        notes.append("ignored unknown key(s) " + ", ".join(k + h for k, h in zip(unknown, hints))
+                     + " of the case, as Dyad does; known keys: " + ", ".join(sorted(_KNOWN_KEYS)))
     if "stop" not in spec:
         raise DyadError(f'{where} has no "stop" time', span)
     stop = _number(spec["stop"], f'{where}: "stop"', span)
@@ -147,8 +151,8 @@ def _parse_case(model: str, name: str, spec: Any, span: Span | None) -> TestCase
     expect_initial = _values(expect.get("initial", {}), f'{where}: "expect.initial"',
                              "initial value", span)
     if not signals and not final and not expect_initial:
-        raise DyadError(f'{where} expects nothing: give "expect.signals", "expect.initial" and/or '
-                        f'"expect.final"', span)
+        notes.append("the case expects no values: it checks that the run succeeds (as Dyad's "
+                     "generated test does)")
     initial_values = _values(spec.get("initial", {}), f'{where}: "initial"', "initial value", span)
     compared = list(dict.fromkeys(list(signals) + list(final) + list(expect_initial)))
     atol = _per_signal(spec.get("atol"), compared, None, f'{where}: "atol"', span)
@@ -170,7 +174,7 @@ def _parse_case(model: str, name: str, spec: Any, span: Span | None) -> TestCase
         raise DyadError(f'{where}: "nominal" must be an object of unknown: size', span)
     nominal = {k: _positive(v, f'{where}: nominal of "{k}"', span) for k, v in nominal.items()}
     return TestCase(model, name, stop, start, points, rtol, tuple(signals), atol, signal_rtol,
-                    nominal, final, span, initial_values, expect_initial, defaults)
+                    nominal, final, span, initial_values, expect_initial, defaults, tuple(notes))
 
 
 def _values(value: Any, what: str, kind: str, span: Span | None) -> dict[str, float]:

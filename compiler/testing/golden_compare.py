@@ -74,7 +74,7 @@ class CaseReport:
 
     def format(self, verbose: bool = True) -> str:
         head = f"{'PASS' if self.passed else 'FAIL'} {self.case.label} ({self.seconds:.1f} s)"
-        lines = [head] + [f"  note: {n}" for n in self.notes]
+        lines = [head] + [f"  note: {n}" for n in list(self.case.notes) + self.notes]
         if self.error:
             lines.append(f"  error: {self.error}")
             return "\n".join(lines)

@@ -72,6 +72,15 @@ def test_a_case_with_only_expect_initial_is_a_case():
     assert case.expect_initial == {"a": 0.5} and not case.final and not case.signals
 
 
+def test_unknown_keys_and_no_expectations_are_notes_as_dyad_ignores_them():
+    # Dyad's generated test ignores a misplaced "signals" and then only checks that the run
+    # succeeds; dyadc does the same and says so.
+    case = _case(signals=["a"], colour=1, expect={})
+    assert "ignored unknown key(s) colour, signals (did you mean expect.signals?)" in case.notes[0]
+    assert "checks that the run succeeds" in case.notes[1]
+    assert not case.signals and not case.final
+
+
 @pytest.mark.parametrize("spec, words", [
     ({"stop": "soon"}, '"stop" must be a finite number'),
     ({"initial": {"x": "ten"}}, 'initial value of "x" must be a finite number'),
@@ -122,6 +131,13 @@ def test_dyad_default_tolerance_is_relative_sqrt_eps(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "PASS FreeDecay.ten" in out and "FAIL FreeDecay.six " in out
     assert "PASS FreeDecay.six_atol" in out and "2 accepted, 1 failed" in out
+
+
+def test_a_case_without_expectations_passes_when_the_run_succeeds(tmp_path, capsys):
+    model = _write(tmp_path, '"smoke": {"stop": 1, "initial": {"x": 1}, "signals": ["x"]}')
+    assert main(["test", model, "--golden", str(tmp_path / "g"), "--accept"]) == 0
+    out = capsys.readouterr().out
+    assert "PASS FreeDecay.smoke" in out and "did you mean expect.signals?" in out
 
 
 def test_an_initial_map_naming_nothing_of_the_model_is_a_located_error(tmp_path, capsys):

@@ -170,8 +170,6 @@ def test_missing_golden_column_names_the_signal():
     ({"stop": "twelve"}, '"stop" must be a finite number'),
     ({"rtol": 0}, "must be positive"),
     ({"atol": {"a": 1, "zz": 1}}, "does not compare: zz"),
-    ({"colour": 1}, "unknown key(s) colour"),
-    ({"expect": {"signals": []}}, "expects nothing"),
 ])
 def test_malformed_cases_are_located_errors(spec, words):
     with pytest.raises(DyadError) as caught:
