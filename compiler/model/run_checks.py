@@ -24,9 +24,17 @@ def checked_run(compilation, params: Mapping | None, start: float) -> Iterator[N
     try:
         yield
     except SimulationError as err:
-        if err.time_reached is not None and err.time_reached > start:
-            raise
-        explained = explain_start_failure(compilation, params)
+        explained = None
+        if err.time_reached is None or err.time_reached <= start:
+            explained = explain_start_failure(compilation, params)
+        if explained is None and err.span is None and not err.notes:
+            # a bare solver flag: look for an operation that left its domain (run_failures.py)
+            from compiler.model.run_failures import diagnose
+            try:
+                values = run_parameter_values(compilation, params)
+            except (TypeError, ValueError):
+                values = {}
+            raise diagnose(err, compilation, values, start) from None
         if explained is None:
             raise
         explained.notes.append(Note(f"the solver reported: {err.message}"))

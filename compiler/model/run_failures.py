@@ -1,0 +1,237 @@
+"""Why a run failed, in words and at an equation (issue 19, item 10): IDAS reports only a flag
+(IDA_FIRST_RES_FAIL, IDA_TOO_MUCH_WORK, ...) and a time. Most such failures of a model that
+compiled come from an operation leaving its domain: a divisor reaching zero, the square root or
+logarithm of a value reaching or crossing zero, asin/acos beyond +-1. This module looks for one.
+
+Where the run was: the output times it reached (the failure's partial result) and, from the last
+two of them, a straight-line extrapolation to the failure time; a run that failed at its first
+step is looked at in its start point (start values, through the compiled outputs function).
+Each domain-restricted subexpression of the flat equations is evaluated there, and the one that
+is out of its domain, or closest to the edge of it relative to its size along the run, names the
+equation. Nothing is found when no such operation is near its edge: the solver's words stand.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Mapping
+
+import numpy as np
+import sympy
+
+from compiler.errors import Note, SimulationError, Span
+from compiler.model.flat import TIME
+
+# A divisor, or the argument of sqrt/log, within this fraction of its largest size along the run
+# (and of 1e-3 in absolute terms) counts as having reached zero.
+NEAR_EDGE = 1e-2
+# ... and one that shrank to this fraction of its size, when its trend reaches 0 that soon.
+NEAR_SIZE = 0.1
+# Candidates evaluated per failure at most (the largest models have thousands of equations).
+MAX_CANDIDATES = 5000
+
+
+@dataclass(frozen=True)
+class _Candidate:
+    kind: str                   # "divisor" | "sqrt" | "log" | "asin"
+    operand: sympy.Expr         # the value that must stay in the domain
+    shown: sympy.Expr           # the subexpression, for the message
+    span: Span | None
+    path: str
+
+
+def diagnose(error: SimulationError, compilation, parameter_values: Mapping[str, float],
+             start: float) -> SimulationError:
+    """`error` with its cause in words and its location, when a domain edge explains it."""
+    points = _points(error, compilation, parameter_values, start)
+    if points is None:
+        return error
+    times, env = points
+    found = _worst(_candidates(compilation.flat), env, times)
+    if found is None:
+        return error
+    candidate, value, where = found
+    t = error.time_reached if error.time_reached is not None else float(times[-1])
+    words = _words(candidate, value, where)
+    explained = SimulationError(f"simulation of {compilation.model.name} failed at t = {t:.10g}: {words}",
+                                error.time_reached, words, hint=_HINTS[candidate.kind])
+    explained.span = candidate.span
+    explained.partial = error.partial
+    explained.notes = [Note(f"the solver reported: {error.message}")]
+    return explained
+
+
+_HINTS = {
+    "divisor": "a division by a value that reaches 0 makes the equations infinite; guard it (e.g. "
+               "max(abs(d), eps)) or stop the run before it happens",
+    "sqrt": "the square root of a negative value is not real; check the signs, or the start values "
+            "of the variables in it",
+    "log": "the logarithm of a value at or below 0 is not real; check the signs, or the start values "
+           "of the variables in it",
+    "coefficient": "where the factor of a derivative vanishes (a mass, a capacitance, an inertia "
+                   "of 0) the equation no longer determines it; keep that factor away from 0",
+    "asin": "asin and acos take values in [-1, 1]; check the argument's scale",
+}
+
+
+def _words(candidate: _Candidate, value: float, where: str) -> str:
+    shown = _text(candidate.shown)
+    operand = _text(candidate.operand)
+    if candidate.kind == "divisor":
+        return f"the divisor `{operand}` in `{shown}` reaches 0 ({operand} = {value:.4g} {where})"
+    if candidate.kind == "coefficient":
+        return (f"the factor `{operand}` of `{shown}` in this equation reaches 0, so nothing determines "
+                f"{shown} any more ({operand} = {value:.4g} {where})")
+    if candidate.kind == "asin":
+        return f"the argument of `{shown}` leaves [-1, 1] ({operand} = {value:.4g} {where})"
+    name = "square root" if candidate.kind == "sqrt" else "logarithm"
+    if value < 0 or (candidate.kind == "log" and value == 0):
+        return f"`{shown}` takes the {name} of a negative number ({operand} = {value:.4g} {where})"
+    return f"`{shown}` takes the {name} of a value that reaches 0 ({operand} = {value:.4g} {where})"
+
+
+def _text(expr: sympy.Expr) -> str:
+    text = str(expr)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+# ------------------------------------------------------------------------ where the run was
+
+def _points(error: SimulationError, compilation, parameter_values: Mapping[str, float],
+            start: float) -> tuple[np.ndarray, dict[str, np.ndarray]] | None:
+    """Times and name -> values there: a run again from the start to just before the failure time,
+    with output times crowding towards it (IDAS fills the partial result only at the end of a
+    segment, so it may hold nothing near the failure), or the start point for a failure there."""
+    model = compilation.model
+    t_fail = error.time_reached
+    found = None
+    if t_fail is not None and t_fail > start:
+        found = _run_towards(model, parameter_values, start, t_fail)
+    if found is None:
+        try:
+            p = np.array([parameter_values.get(n, d) for n, d in
+                          zip(model.parameter_names, model.parameter_defaults)], dtype=float)
+            out = np.asarray(model.outputs(model.x_guess, model.z_guess, p, start), dtype=float).ravel()
+        except Exception:           # noqa: BLE001 - no start point to look at: the solver's words stand
+            return None
+        found = np.array([start], dtype=float), {n: np.array([v]) for n, v in zip(model.output_names, out)}
+    times, values = found
+    values[TIME.name] = times
+    for name, value in parameter_values.items():
+        values.setdefault(name, np.full(len(times), float(value)))
+    return times, values
+
+
+def _run_towards(model, parameter_values: Mapping[str, float], start: float, t_fail: float):
+    from compiler import runtime
+    span = t_fail - start
+    for closest in (1e-6, 1e-3, 1e-1):
+        grid = sorted({start + span * (1 - 0.5 ** k) for k in range(40) if 0.5 ** k > closest}
+                      | {start + span * (1 - closest)} | {start + span * j / 20 for j in range(20)})
+        try:
+            result = runtime.simulate(model, options=runtime.SimulationOptions(
+                stop=grid[-1], start=start, saveat=grid, params=dict(parameter_values), progress=False))
+        except Exception:           # noqa: BLE001 - it fails before that point too: stop earlier
+            continue
+        return np.asarray(result.time, dtype=float), {n: np.asarray(result[n], dtype=float)
+                                                      for n in result.names}
+    return None
+
+
+# ------------------------------------------------------------------------ what can leave its domain
+
+def _candidates(flat) -> list[_Candidate]:
+    found: list[_Candidate] = []
+    for equation in flat.equations:
+        span = getattr(equation.origin, "span", None)
+        path = getattr(equation.origin, "path", "")
+        found.extend(_coefficients(equation.residual, span, path))
+        for node in sympy.preorder_traversal(equation.residual):
+            if len(found) >= MAX_CANDIDATES:
+                return found
+            candidate = _restricted(node, span, path)
+            if candidate is not None:
+                found.append(candidate)
+    return found
+
+
+def _coefficients(residual: sympy.Expr, span: Span | None, path: str) -> list[_Candidate]:
+    """The factor of each derivative in an equation linear in it: where it reaches 0 the
+    derivative is no longer determined (a mass that vanishes)."""
+    found = []
+    derivatives = [s for s in residual.free_symbols if s.name.startswith("der(")]
+    for derivative in sorted(derivatives, key=lambda s: s.name):
+        factor = sympy.diff(residual, derivative)
+        if factor.is_number or any(s.name.startswith("der(") for s in factor.free_symbols):
+            continue
+        found.append(_Candidate("coefficient", factor, derivative, span, path))
+    return found
+
+
+def _restricted(node, span: Span | None, path: str) -> _Candidate | None:
+    if isinstance(node, sympy.Pow) and node.exp.is_number:
+        if node.exp.is_negative and not node.base.is_number:
+            return _Candidate("divisor", node.base, node, span, path)
+        if node.exp.is_Rational and not node.exp.is_integer and not node.base.is_number:
+            return _Candidate("sqrt", node.base, node, span, path)
+    if isinstance(node, sympy.log) and not node.args[0].is_number:
+        return _Candidate("log", node.args[0], node, span, path)
+    if isinstance(node, (sympy.asin, sympy.acos)) and not node.args[0].is_number:
+        return _Candidate("asin", node.args[0], node, span, path)
+    return None
+
+
+def _worst(candidates: list[_Candidate], env: dict[str, np.ndarray], times: np.ndarray):
+    """(candidate, its value at the point that matters, 'at t = ...') of the operation out of its
+    domain first, else the one whose trend reaches the edge soonest after the last time; None
+    when none is near."""
+    best = None
+    for candidate in candidates:
+        names = sorted(s.name for s in candidate.operand.free_symbols)
+        if any(name not in env for name in names):
+            continue
+        try:
+            function = sympy.lambdify([sympy.Symbol(n) for n in names], candidate.operand, "numpy")
+            with np.errstate(all="ignore"):
+                series = np.broadcast_to(np.asarray(function(*(env[n] for n in names)), dtype=float),
+                                         times.shape)
+        except Exception:           # noqa: BLE001 - an operand numpy cannot evaluate is no culprit
+            continue
+        score, k = _edge(candidate.kind, times, series)
+        if score is not None and (best is None or score < best[0]):
+            best = (score, candidate, float(series[k]), f"at t = {times[k]:.6g}")
+    if best is None:
+        return None
+    return best[1], best[2], best[3]
+
+
+def _edge(kind: str, times: np.ndarray, series: np.ndarray) -> tuple[float | None, int]:
+    """How soon `series` leaves its domain: negative when it already has (at index k), else the
+    time its last trend needs to reach 0 as a fraction of the span run; None when it stays well
+    inside."""
+    if not np.isfinite(series).all():
+        k = int(np.argmax(~np.isfinite(series)))
+        return -2.0 + k / len(series), k
+    outside = np.zeros(len(series), dtype=bool)
+    if kind == "asin":
+        outside = np.abs(series) > 1
+    elif kind in ("sqrt", "log"):
+        outside = (series < 0) | ((series == 0) & (kind == "log"))
+    elif kind in ("divisor", "coefficient"):
+        outside = series == 0
+    if outside.any():
+        k = int(np.argmax(outside))
+        return -1.0 + k / len(series), k
+    if kind == "asin" or len(series) < 2:
+        return None, 0
+    k = len(series) - 1
+    size = float(np.max(np.abs(series)))
+    last, before = float(series[k]), float(series[k - 1])
+    step = times[k] - times[k - 1]
+    if size == 0 or step <= 0 or abs(last) >= abs(before) or abs(last) > NEAR_SIZE * size:
+        return None, 0
+    # a straight line through the last two points: where it reaches 0, after the span run so far
+    reach = abs(last) * step / abs(last - before)
+    run = times[k] - times[0]
+    relative = reach / run if run > 0 else math.inf
+    return (relative, k) if relative < NEAR_EDGE else (None, 0)

@@ -1,0 +1,77 @@
+"""Every failed run says when and why in words, at the equation where one can be named (issue 19,
+item 10): IDAS reports only a flag (IDA_FIRST_RES_FAIL, IDA_TOO_MUCH_WORK, ...); a domain edge
+(a divisor, a square root or logarithm reaching 0, a derivative's factor vanishing) names the
+equation, and the solver's words stay as a note."""
+from __future__ import annotations
+
+import re
+import textwrap
+
+import pytest
+
+from compiler import api
+from compiler.errors import DyadError
+
+OSCILLATOR = """
+    component Osc
+      parameter k::Real = 4.0
+      parameter m::Real = 1.0
+      variable x::Real(initial = 1.0)
+      variable v::Real(initial = 0.0)
+    relations
+      der(x) = v
+      m * der(v) = -k * x
+    end
+    """
+
+
+def failure(tmp_path, old: str, new: str, stop: float = 2.0, **options) -> tuple[DyadError, str]:
+    text = textwrap.dedent(OSCILLATOR).lstrip()
+    assert old in text
+    path = tmp_path / "Osc.dyad"
+    path.write_text(text.replace(old, new, 1), encoding="utf-8")
+    with pytest.raises(DyadError) as caught:
+        api.simulate(str(path), stop, **options)
+    return caught.value, str(path)
+
+
+@pytest.mark.parametrize("old, new, line, words", [
+    ("der(x) = v", "der(x) = v + sqrt(x - 2)", 7,
+     r"failed at t = 0: `sqrt\(x - 2\)` takes the square root of a negative number \(x - 2 = -1 at t = 0\)"),
+    ("der(x) = v", "der(x) = v + 1/(time - 0.5)", 7,
+     r"failed at t = 0\.49\d+: the divisor `time - 0\.5` in `1/\(time - 0\.5\)` reaches 0 "
+     r"\(time - 0\.5 = -0\.00\d+ at t = 0\.49\d+\)"),
+    ("der(x) = v", "der(x) = v + log(x)", 7,
+     r"failed at t = 0\.6\d+: `log\(x\)` takes the logarithm of a value that reaches 0 \(x = 0\.0\d+"),
+    ("der(x) = v", "der(x) = v / (x - 0.5)", 7, r"failed at t = 0\.25\d+: the divisor `x - 0\.5` in `1/\(x - 0\.5\)` reaches 0"),
+    ("m * der(v) = -k * x", "(m - time) * der(v) = -k * x", 8,
+     r"failed at t = 0\.99\d+: the factor `m - time` of `der\(v\)` in this equation reaches 0, so "
+     r"nothing determines der\(v\) any more"),
+], ids=["sqrt-at-start", "divisor-in-time", "log", "divisor-in-a-state", "vanishing-mass"])
+def test_a_solver_failure_names_the_equation_and_the_cause(tmp_path, old, new, line, words):
+    error, path = failure(tmp_path, old, new)
+    text = error.format()
+    assert re.match(rf"{re.escape(path)}:{line}:3: error: simulation of Osc {words}", text), text
+    assert "note: the solver reported: simulation of Osc failed at t = " in text
+    assert "IDA_" in text.split("note: the solver reported:")[1]        # the flag stays, as a note
+    assert error.hint
+
+
+def test_a_mass_of_zero_is_still_explained_by_the_singular_start(tmp_path):
+    error, path = failure(tmp_path, "parameter m::Real = 1.0", "parameter m::Real = 0")
+    text = error.format()
+    assert text.startswith(f"{path}:8:3: error: the model is singular at the start: with `m` = 0")
+    assert "note: the solver reported: simulation of Osc failed at t = 0: IDA_" in text
+    assert "hint: the value of `m` makes a coefficient vanish" in text
+
+
+def test_a_failure_without_a_domain_edge_keeps_the_solvers_words(tmp_path):
+    # too few steps allowed: nothing leaves its domain, so the flag in words is the explanation
+    text = textwrap.dedent(OSCILLATOR).lstrip()
+    path = tmp_path / "Osc.dyad"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(DyadError) as caught:
+        api.simulate_compiled(api.compile(str(path)), 100.0, points=2, max_steps=5)
+    message = caught.value.format()
+    assert message.startswith("error: simulation of Osc failed at t = "), message
+    assert "IDA_TOO_MUCH_WORK: too many steps (max_steps) before reaching the next output time" in message
