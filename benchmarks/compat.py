@@ -118,8 +118,9 @@ class Runner:
         rc, out, _err, error = self.dyadc(["check", f"{path}:{d.name}", *self.lib_args()], "check")
         if rc != 0:
             return {**entry, "verdict": "fail", "reason": error}
-        partial = any(line.strip().startswith("partial:") for line in out.splitlines())
-        return {**entry, "verdict": "partial" if partial else "ok", "reason": ""}
+        status = {line.strip().split(":", 1)[0] for line in out.splitlines()}
+        verdict = "external" if "external" in status else "partial" if "partial" in status else "ok"
+        return {**entry, "verdict": verdict, "reason": ""}
 
     # ---------------------------------------------------------------------------- test cases
 
@@ -267,7 +268,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--jobs", type=int, default=2)
     options = parser.parse_args(argv)
     corpus = options.corpus.resolve()
-    libraries = corpus_scan.discover_libraries(corpus)
+    found = corpus_scan.discover_libraries(corpus)
+    libraries = [lib for lib in found if corpus_scan.is_openly_licensed(lib)]
+    skipped = [lib for lib in found if not corpus_scan.is_openly_licensed(lib)]
+    for lib in skipped:
+        print(f"skipped {lib.root.name}: license {lib.license!r} is not an open-source license",
+              file=sys.stderr)
     if not libraries:
         print(f"error: no .dyad files under {corpus}", file=sys.stderr)
         return 2
@@ -286,7 +292,7 @@ def main(argv: list[str] | None = None) -> int:
         shutil.rmtree(workdir, ignore_errors=True)
     seconds = time.perf_counter() - began
     command = f"make compat CORPUS={options.corpus}"
-    report = markdown(results, libraries, command, seconds, TIMEOUTS)
+    report = markdown(results, libraries, command, seconds, TIMEOUTS, skipped)
     options.output.parent.mkdir(parents=True, exist_ok=True)
     options.output.write_text(report, encoding="utf-8")
     if options.json:

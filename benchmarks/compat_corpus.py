@@ -92,6 +92,15 @@ def _license(root: Path) -> str:
     return "no LICENSE file"
 
 
+# Issue 17 measures on openly licensed libraries only; a repository under another license (e.g.
+# "Dyad Source Available") is listed in the report as skipped, never read.
+_OPEN_LICENSE = re.compile(r"\b(BSD|MIT|Apache|GPL|LGPL|MPL|ISC|Zlib)\b")
+
+
+def is_openly_licensed(lib: CorpusLibrary) -> bool:
+    return bool(_OPEN_LICENSE.search(lib.license))
+
+
 def discover_libraries(corpus: Path) -> list[CorpusLibrary]:
     """Every folder directly under `corpus` that holds .dyad files (or `corpus` itself when it is
     one repository)."""

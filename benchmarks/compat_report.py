@@ -6,6 +6,8 @@ import collections
 import re
 from datetime import datetime, timezone
 
+from compat_explained import explanation
+
 TARGETS = {"parsed": 1.0, "checked": 0.9, "simulated": 0.8, "matched": 0.8}
 STAGE_TITLES = {
     "parse": "Files that do not parse (`dyadc parse`)",
@@ -48,11 +50,12 @@ def failures(results: list[dict]) -> list[tuple[str, str, str]]:
         if not result["parsed"]:
             out.append(("parse", result["parse_error"], path))
         for component in result["components"]:
-            if component["verdict"] == "fail" and result["parsed"]:
+            if component["verdict"] == "fail" and result["parsed"] \
+                    and not explanation(path, component["name"], component["reason"]):
                 out.append(("check", component["reason"], path))
         for run in result["runs"]:
             if not run["simulated"]:
-                if result["parsed"]:
+                if result["parsed"] and not _run_explained(path, run):
                     out.append(("simulate", run["reason"], path))
             elif run["matched"] is False:
                 out.append(("match", run["reason"], path))
@@ -77,6 +80,24 @@ def group(failed: list[tuple[str, str, str]]) -> dict[str, list[dict]]:
             for stage, entries in by_stage.items()}
 
 
+def explained(results: list[dict]) -> list[tuple[str, dict, str]]:
+    """(file, component entry, culprit) of the components that fail because the published source
+    is inconsistent (benchmarks/compat_explained.py)."""
+    out = []
+    for result in results:
+        for component in result["components"]:
+            if component["verdict"] == "fail" and result["parsed"]:
+                culprit = explanation(result["file"], component["name"], component["reason"])
+                if culprit:
+                    out.append((result["file"], component, culprit))
+    return out
+
+
+def _run_explained(path: str, run: dict) -> str | None:
+    """The culprit when a run fails because its component's published source is inconsistent."""
+    return None if run["simulated"] else explanation(path, run["name"].split(".")[0], run["reason"])
+
+
 def totals(results: list[dict]) -> dict[str, tuple[int, int]]:
     components = [c for r in results for c in r["components"]]
     runs = [run for r in results for run in r["runs"]]
@@ -85,7 +106,13 @@ def totals(results: list[dict]) -> dict[str, tuple[int, int]]:
         "parsed": (sum(r["parsed"] for r in results), len(results)),
         "checked": (sum(c["verdict"] != "fail" for c in components), len(components)),
         "partial": (sum(c["verdict"] == "partial" for c in components), len(components)),
+        "external": (sum(c["verdict"] == "external" for c in components), len(components)),
+        "explained": (len(explained(results)), len(components)),
+        "checked_or_explained": (sum(c["verdict"] != "fail" for c in components)
+                                 + len(explained(results)), len(components)),
         "simulated": (sum(run["simulated"] for run in runs), len(runs)),
+        "runs_explained": (sum(bool(_run_explained(r["file"], run)) for r in results
+                               for run in r["runs"] if r["parsed"]), len(runs)),
         "matched": (sum(bool(run["matched"]) for run in with_values), len(with_values)),
         "matched_or_analysis": (sum(bool(run["matched"]) if run["kind"] == "test"
                                     else run["simulated"] for run in runs), len(runs)),
@@ -105,7 +132,7 @@ def _row(label: str, count: tuple[int, int], target: float | None) -> str:
 
 
 def markdown(results: list[dict], libraries: list, command: str, seconds: float,
-             timeouts: dict[str, float]) -> str:
+             timeouts: dict[str, float], skipped: list = ()) -> str:
     count = totals(results)
     grouped = group(failures(results))
     lines = [
@@ -124,6 +151,9 @@ def markdown(results: list[dict], libraries: list, command: str, seconds: float,
         n = sum(r["library"] == lib.package for r in results)
         lines.append(f"| {lib.repository} | {lib.package} | `{lib.commit[:12]}` | {lib.date[:10]} "
                      f"| {lib.license} | {n} |")
+    for lib in skipped:
+        lines.append(f"| {lib.repository} | {lib.package} | (skipped) | | {lib.license} "
+                     "| not measured: not an open-source license |")
     lines += [
         "",
         "## Method",
@@ -134,7 +164,13 @@ def markdown(results: list[dict], libraries: list, command: str, seconds: float,
         "- **parsed**: `dyadc parse FILE` exits 0.",
         "- **checked**: `dyadc check FILE:Name -L LIB` exits 0, for every `component` of the file "
         "(plain, `partial`, `test`, `example`, `external`); a `partial: balanced as a component, "
-        "N open connectors` verdict (a library part that cannot run alone) counts as checked. "
+        "N open connectors` verdict (a library part that cannot run alone) and an `external: "
+        "interface only` verdict (an `external component`, whose equations are Julia code) count "
+        "as checked. A component that fails because its published source is inconsistent "
+        "(unbalanced, mis-sized, naming something undefined) counts as *explained* when a reviewed "
+        "entry of benchmarks/compat_explained.py names the culprit and dyadc's error still says "
+        "what that entry expects; explained components are listed with their culprit and are "
+        "not counted as checked. "
         "Components of a file that does not parse count as not checked (not listed again below).",
         "- **runs**: every case of a component's `\"tests\"` metadata and every (non-`partial`) "
         "`analysis` that names a model and a stop time. A test case runs `dyadc test FILE:Name "
@@ -161,7 +197,13 @@ def markdown(results: list[dict], libraries: list, command: str, seconds: float,
         _row("files parsed", count["parsed"], TARGETS["parsed"]),
         _row("components checked", count["checked"], TARGETS["checked"]),
         _row("  of which partial (open connectors)", count["partial"], None),
+        _row("  of which external (interface only)", count["external"], None),
+        _row("components not checked, explained by an error in the published source",
+             count["explained"], None),
+        _row("components checked or explained", count["checked_or_explained"], None),
         _row("runs simulated (test cases and analyses)", count["simulated"], TARGETS["simulated"]),
+        _row("runs not simulated, explained by an error in the published component",
+             count["runs_explained"], None),
         _row("test cases matching their published values", count["matched"], TARGETS["matched"]),
         _row("runs simulated and matched (analyses: simulated)", count["matched_or_analysis"],
              TARGETS["matched"]),
@@ -176,6 +218,13 @@ def markdown(results: list[dict], libraries: list, command: str, seconds: float,
         cells = [f"{d} / {t}" for d, t in (sub["parsed"], sub["checked"], sub["simulated"],
                                            sub["matched"])]
         lines.append(f"| {lib.package} | " + " | ".join(cells) + " |")
+    lines += ["", "## Components whose published source is inconsistent (explained)", "",
+              "Reviewed by hand against dyadc's diagnosis; the culprit is in our words.", "",
+              "| component | file | culprit | dyadc's first error line (normalised) |",
+              "| --- | --- | --- | --- |"]
+    for path, component, culprit in explained(results):
+        lines.append(f"| {component['name']} | {path} | {culprit.replace('|', chr(92) + '|')} | "
+                     f"{normalise(component['reason']).replace('|', chr(92) + '|')} |")
     lines += ["", "## Failure classes", ""]
     for stage, title in STAGE_TITLES.items():
         entries = grouped.get(stage, [])
