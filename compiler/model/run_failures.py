@@ -104,14 +104,22 @@ def _points(error: SimulationError, compilation, parameter_values: Mapping[str, 
     segment, so it may hold nothing near the failure), or the start point for a failure there."""
     model = compilation.model
     t_fail = error.time_reached
-    found = None
     if t_fail is not None and t_fail > start:
         found = _run_towards(model, parameter_values, start, t_fail)
-    if found is None:
+        if found is None:
+            return None
+    else:
         try:
             p = np.array([parameter_values.get(n, d) for n, d in
                           zip(model.parameter_names, model.parameter_defaults)], dtype=float)
-            out = np.asarray(model.outputs(model.x_guess, model.z_guess, p, start), dtype=float).ravel()
+            x, z = np.asarray(model.x_guess, dtype=float), np.asarray(model.z_guess, dtype=float)
+            try:                    # the consistent point IDAS started from, where there is one
+                from compiler.runtime import consistent_initialization
+                point = consistent_initialization(model, p, start)
+                x, z = point.x, point.z
+            except Exception:       # noqa: BLE001 - the start values are the next best point
+                pass
+            out = np.asarray(model.outputs(x, z, p, start), dtype=float).ravel()
         except Exception:           # noqa: BLE001 - no start point to look at: the solver's words stand
             return None
         found = np.array([start], dtype=float), {n: np.array([v]) for n, v in zip(model.output_names, out)}
@@ -125,7 +133,7 @@ def _points(error: SimulationError, compilation, parameter_values: Mapping[str, 
 def _run_towards(model, parameter_values: Mapping[str, float], start: float, t_fail: float):
     from compiler import runtime
     span = t_fail - start
-    for closest in (1e-6, 1e-3, 1e-1):
+    for closest in (1e-6, 1e-2):        # at most two more runs: a failure costs at most 3 runs
         grid = sorted({start + span * (1 - 0.5 ** k) for k in range(40) if 0.5 ** k > closest}
                       | {start + span * (1 - closest)} | {start + span * j / 20 for j in range(20)})
         try:
@@ -146,13 +154,24 @@ def _candidates(flat) -> list[_Candidate]:
         span = getattr(equation.origin, "span", None)
         path = getattr(equation.origin, "path", "")
         found.extend(_coefficients(equation.residual, span, path))
-        for node in sympy.preorder_traversal(equation.residual):
+        for node in _unguarded(equation.residual):
             if len(found) >= MAX_CANDIDATES:
                 return found
             candidate = _restricted(node, span, path)
             if candidate is not None:
                 found.append(candidate)
     return found
+
+
+def _unguarded(expr: sympy.Expr):
+    """The subexpressions of `expr` outside selections: `ifelse(x > 0, sqrt(x), 0)` guards its
+    square root, which is evaluated only where the condition holds."""
+    stack = [expr]
+    while stack:
+        node = stack.pop()
+        yield node
+        if not isinstance(node, sympy.Piecewise):
+            stack.extend(node.args)
 
 
 def _coefficients(residual: sympy.Expr, span: Span | None, path: str) -> list[_Candidate]:
