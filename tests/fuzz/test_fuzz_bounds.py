@@ -32,6 +32,14 @@ WORST_CASES = [
     ("sin-5000-deep", _oscillator("-k * x", nested("sin", 5000, "-k * x")), ["check"]),
     ("unary-minus-5000", _oscillator("-k * x", nested("minus", 5000, "k") + " * x"), ["check"]),
     ("sum-20000-terms", _oscillator("-k * x", "-k * x + " + nested("sum", 20000, "0")), ["check"]),
+    ("metadata-5000-deep", OSCILLATOR.text.replace("end\n", "metadata " + '{"a": ' * 5000 + "1" + "}" * 5000
+                                                   + "\nend\n"), ["check"]),
+    ("power-tower", _oscillator("4.0", "9^9^9"), ["check"]),
+    ("array-1e9", _oscillator("variable v::Real(initial = 0.0)",
+                              "variable v::Real(initial = 0.0)\n  variable w::Real[1000000000]"), ["check"]),
+    ("array-1e308", _oscillator("variable v::Real(initial = 0.0)",
+                                "variable v::Real(initial = 0.0)\n  variable w::Real[1e308]"), ["check"]),
+    ("for-1e9", _oscillator("der(x) = v", "for i in 1:1000000000\n    der(x) = v\n  end"), ["check"]),
     ("points-1e8", OSCILLATOR.text, ["simulate", "--stop", "1", "--points", "100000000"]),
     ("saveat-1e-9", OSCILLATOR.text, ["simulate", "--stop", "1", "--saveat", "1e-9"]),
     ("rtol-nan", OSCILLATOR.text, ["simulate", "--stop", "1", "--rtol", "nan"]),
@@ -61,3 +69,15 @@ def test_fuzzed_models_stay_bounded_in_a_fresh_process(fuzz_base, seed, command,
     outcome = run_in_subprocess(argv, work, SUBPROCESS_TIME_LIMIT_S)
     found = problems(outcome, SUBPROCESS_TIME_LIMIT_S)
     assert not found, f"{'; '.join(found)}\n{outcome.describe()}"
+
+
+def test_a_million_components_are_refused_in_a_fresh_process(fuzz_base):
+    # issue 19: `[Osc() for i in 1:1000000]` ran for minutes up to 7.7 GB, then a MemoryError
+    work = example_dir(fuzz_base)
+    text = OSCILLATOR.text + "component Many\n  oscs = [Oscillator() for i in 1:1000000]\nend\n"
+    path = write_seed(work, OSCILLATOR, text)
+    outcome = run_in_subprocess(["check", f"{path}:Many"], work, SUBPROCESS_TIME_LIMIT_S)
+    assert not problems(outcome, SUBPROCESS_TIME_LIMIT_S), outcome.describe()
+    assert outcome.status == 1 and outcome.seconds < 20, outcome.describe()
+    assert "(1,000,000 x Oscillator) would create 5,000,000 elements, more than the limit of 1,000,000" \
+        in outcome.stderr, outcome.describe()
