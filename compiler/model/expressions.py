@@ -252,6 +252,11 @@ def _colon(expr: ast.Colon, scope: EvalScope, mode: Mode) -> Any:
 def resolve_ref(ref: ast.Ref, scope: EvalScope, mode: Mode) -> Any:
     """The value or node a reference names (components and connectors are returned as nodes)."""
     first = ref.parts[0]
+    if len(ref.parts) > 1 and not any(p.indices for p in ref.parts) \
+            and first.name not in scope.bindings and first.name not in scope.node.member_names():
+        member = enum_member_value(ref.dotted, scope.lexical, ref.span)
+        if member is not None:
+            return member
     current = scope.lookup(first.name, mode, ref.span)
     current = apply_indices(current, first.indices, first.name, scope, ref.span)
     walked = first.name
@@ -630,6 +635,13 @@ def _call(expr: ast.Call, scope: EvalScope, mode: Mode) -> Any:
             return sympy.Integer(shape[dim - 1] if dim <= len(shape) else 1)
         return as_array([sympy.Integer(s) for s in shape])
     lex = scope.lexical
+    if "." in name:                 # `Gear.High()`: an enum member written as a constructor
+        member = enum_member_value(name, lex, span)
+        if member is not None:
+            if expr.args or expr.kwargs:
+                raise DyadError(f"enum members with fields (`{name}(...)`) are not supported yet",
+                                span)
+            return member
     impl = lex.library.resolve_function(name, lex.package, lex.file, span)
     args = [_num(evaluate(a, scope, mode), span) for a in expr.args]
     if isinstance(impl, JuliaFunction):
@@ -641,6 +653,57 @@ def _call(expr: ast.Call, scope: EvalScope, mode: Mode) -> Any:
         raise DyadError(str(exc), span) from exc
     except TypeError as exc:
         raise DyadError(f"bad arguments for `{name}`: {exc}", span) from exc
+
+
+def enum_member_value(qualified_member: str, lexical: Lexical, span: Span | None) -> Any:
+    """`Gear.High` (or `Pkg.Gear.High`) as its 1-based position among the members of enum `Gear`;
+    None when the prefix names no enum."""
+    enum_name, _, member = qualified_member.rpartition(".")
+    if not enum_name:
+        return None
+    found = lexical.library.lookup(enum_name, lexical.package, lexical.file)
+    if found is None or not isinstance(found.definition, ast.EnumDef):
+        return None
+    members = found.definition.members
+    if member not in members:
+        from compiler.errors import suggest_name
+        raise DyadError(f"enum `{enum_name}` has no member `{member}`", span,
+                        hint=suggest_name(member, list(members)))
+    return sympy.Integer(members.index(member) + 1)
+
+
+def switch_branch(relation: ast.Switch, scope: EvalScope) -> tuple:
+    """The relations of the case of `switch subject` that the subject's structural value selects
+    (its `else` when no case names it)."""
+    value = structural_int(evaluate(relation.subject, scope, Mode.STRUCTURAL), relation.span,
+                           "a switch subject")
+    enum_name = _subject_enum(relation.subject, scope)
+    for case in relation.cases:
+        for name in case.names:
+            qualified = name if "." in name else f"{enum_name}.{name}" if enum_name else None
+            index = enum_member_value(qualified, scope.lexical, case.span) if qualified else None
+            if index is None:
+                raise DyadError(f"cannot tell which enum `{name}` belongs to", case.span,
+                                hint="switch on a parameter declared with an enum type, or write "
+                                     "the case as `EnumName.Member`")
+            if int(index) == value:
+                return case.body
+    return relation.otherwise
+
+
+def _subject_enum(subject: ast.Expr, scope: EvalScope) -> str | None:
+    """The qualified enum type of a switch subject that names a parameter, else None."""
+    if not isinstance(subject, ast.Ref) or any(p.indices for p in subject.parts):
+        return None
+    node = scope.node
+    for part in subject.parts[:-1]:
+        node = node.member(part.name, Mode.STRUCTURAL, subject.span)
+        if not is_node_like(node):
+            return None
+    parameter = getattr(node, "parameters", {}).get(subject.parts[-1].name)
+    type_name = getattr(getattr(parameter, "type", None), "name", None)
+    found = scope.lexical.library.find(type_name) if type_name else None
+    return type_name if found is not None and isinstance(found.definition, ast.EnumDef) else None
 
 
 _JULIA_DEPTH = " julia call depth"        # a binding key no Dyad name can spell

@@ -12,7 +12,7 @@ import sympy
 from compiler.model.balance import check_balance, component_balance  # noqa: F401  (public API)
 from compiler.errors import DyadError, Note, Span
 from compiler.model.expressions import EvalScope, MissingValue, Mode, evaluate, is_array, \
-    iteration_values, shape_of, structural_bool, structural_int, _num
+    iteration_values, shape_of, structural_bool, structural_int, switch_branch, _num
 from compiler.model.flat import ALGEBRAIC, INPUT, OUTPUT, STATE_CANDIDATE, Equation, FlatSystem, \
     Origin, Parameter, Variable
 from compiler.model.flatten_connect import ConnectionGraph, connection_equations
@@ -124,6 +124,9 @@ class Flattener:
                         self._relation(inner, scope)
                     return
             for inner in relation.otherwise:
+                self._relation(inner, scope)
+        elif isinstance(relation, ast.Switch):
+            for inner in switch_branch(relation, scope):
                 self._relation(inner, scope)
         elif isinstance(relation, ast.Continuity):
             pass        # relates `path` fields (a medium along a fluid path); implies no equation
