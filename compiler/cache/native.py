@@ -12,8 +12,11 @@ library, and no process is left behind.
 """
 from __future__ import annotations
 
+import atexit
+import shutil
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -71,12 +74,18 @@ class BackgroundBuild:
 
 def use_c_code(compilation, cache: bool = True) -> BackgroundBuild | None:
     """Put `compilation` on C code: the cached library at once, else (from the cache) a build in
-    the background while this run uses the virtual machine; without the cache, or for a model
-    the cache does not hold (one whose state set may switch), the library is built now."""
+    the background while this run uses the virtual machine. Without the cache (`cache=False`) the
+    library is built now in a temporary folder; for a model the cache does not hold (one whose
+    state set may switch) it is built now into the C cache."""
     from compiler.lower import ccodegen
     compiler = ccodegen.find_compiler()
     key = getattr(compilation, "cache_key", None)
-    if not cache or key is None or compiler is None or models_folder() is None:
+    if not cache:             # nothing read or kept: a library in a folder removed at exit
+        scratch = Path(tempfile.mkdtemp(prefix="dyadc-c-"))
+        atexit.register(shutil.rmtree, scratch, True)
+        compilation.model = ccodegen.compile_c(compilation.model, scratch)
+        return None
+    if key is None or compiler is None or models_folder() is None:
         compilation.model = ccodegen.use_c_code(compilation.model)
         return None
     library = cached_library(key, compiler)

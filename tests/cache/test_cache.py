@@ -185,3 +185,18 @@ def test_a_missing_parameter_value_is_the_same_located_error_from_a_hit(tmp_path
     assert from_cache.code == from_source.code == 1
     assert "has no value" in from_cache.stderr and "Decay.dyad:2:" in from_cache.stderr
     assert from_cache.stderr == from_source.stderr
+
+
+def test_the_python_api_uses_the_cache_when_asked(tmp_path, monkeypatch):
+    import numpy as np
+
+    from compiler.api import simulate
+    monkeypatch.setenv("DYADC_CACHE_DIR", str(tmp_path / "cache"))
+    library = small_library(tmp_path / "lib")
+    runs = [simulate("CacheLib.Scaled", 1.0, lib_dirs=[str(library)], points=11, cache=True)
+            for _ in range(2)]
+    assert "cache" not in runs[0].stats["compile_timings"]
+    assert "cache" in runs[1].stats["compile_timings"]        # read from the cache
+    for name in ("y", "d.x"):
+        assert np.array_equal(runs[0][name], runs[1][name])
+    assert simulate("CacheLib.Scaled", 1.0, lib_dirs=[str(library)], points=11)["y"][-1] == runs[0]["y"][-1]
