@@ -19,6 +19,7 @@ from compiler.errors import DyadError, Note, Span, suggest_name
 from compiler.model.expressions import CONDITION_TYPES, NOT_FOUND, EvalScope, Lexical, MissingValue, Mode, evaluate, \
     is_array, shape_of, structural_bool, structural_int, iteration_values, _num
 from compiler.model.flat import der_name
+from compiler.model import replaceable
 from compiler.model.library import PRIMITIVE_TYPES, Library, Resolved
 from compiler.model.size_limits import check_elements, check_shape
 from compiler.syntax import ast
@@ -651,6 +652,8 @@ def _instantiate(model: Model, resolved: Resolved, path: str, parent: Instance |
             model.unknown_names.update(node.variables[decl.name].names)
         elif isinstance(decl, ast.ComponentDecl):
             _add_component(node, element, entries_for(element))
+        elif isinstance(decl, ast.TypedDecl) and decl.kind is None:
+            _add_replaceable(node, element, entries_for(element))
     node.relations = [(rel, node.scope(lex)) for rel, lex in template.relations]
     return node
 
@@ -708,6 +711,53 @@ def _add_component(node: Instance, element: ElementTemplate, entries: list[Bound
         array[index] = _instantiate(model, resolved, join_path(node.path, name), node,
                                     child_mods + own, decl.span)
     node.children[decl.name] = array
+
+
+def _add_replaceable(node: Instance, element: ElementTemplate, entries: list[BoundMod]) -> None:
+    """`sensor::Sensor = Thermometer(k = 2)`: a subcomponent whose type the outermost modifier
+    giving a constructor (`Rig(sensor = Pyrometer())`) replaces (compiler/model/replaceable.py)."""
+    decl: ast.TypedDecl = element.decl
+    lex = element.lexical
+    constraint = None if decl.type.name in PRIMITIVE_TYPES else \
+        node.model.library.resolve(decl.type.name, lex.package, lex.file, decl.type.span)
+    if constraint is None or not isinstance(constraint.definition, ast.ComponentDef):
+        raise DyadError(f"`{decl.name}::{decl.type.name}` declares neither a parameter nor a "
+                        f"variable", decl.span,
+                        hint=f"write `parameter {decl.name}::{decl.type.name} = ...` or "
+                             f"`variable {decl.name}::{decl.type.name}`; a keyword-less typed "
+                             f"declaration in a component is a replaceable component")
+    valued = [e for e in entries if e.mod.value is not None]
+    if valued:              # replaced from outside: the outermost constructor wins
+        chosen = valued[0]
+        call = replaceable.constructor(chosen.mod.value, decl.name, chosen.mod.span)
+        component = replaceable.as_component_decl(decl, call, with_modifications=False)
+        replacing = ast.Modification(decl.name, None, replaceable.call_modifications(call), False,
+                                     chosen.mod.span)
+        entries = [BoundMod(replacing, chosen.scope)] + [e for e in entries if e.mod.value is None]
+        call_lex = chosen.scope.lexical
+    else:
+        call = replaceable.constructor(decl.value, decl.name, decl.span)
+        component = replaceable.as_component_decl(decl, call)
+        call_lex = lex
+    chosen_type = node.model.library.resolve(call.function, call_lex.package, call_lex.file,
+                                             call.span, what="component type")
+    if not _extends(node.model.library, chosen_type, constraint.qualified_name):
+        raise DyadError(f"`{chosen_type.qualified_name}` cannot replace `{decl.name}`: it does not "
+                        f"extend `{constraint.qualified_name}`, the type `{decl.name}` is declared "
+                        f"with", call.span, notes=[Note("declared here", decl.span)])
+    _add_component(node, ElementTemplate(component, call_lex, element.owner), entries)
+
+
+def _extends(library: Library, resolved: Resolved, base: str, depth: int = 0) -> bool:
+    if resolved.qualified_name == base:
+        return True
+    if depth > 20 or not isinstance(resolved.definition, ast.ComponentDef):
+        return False
+    for ext in resolved.definition.extends:
+        parent = library.lookup(ext.type_name, resolved.package, resolved.file)
+        if parent is not None and _extends(library, parent, base, depth + 1):
+            return True
+    return False
 
 
 def _scalar_count(instance: Instance) -> int:
