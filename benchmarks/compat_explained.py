@@ -24,7 +24,16 @@ _SCALAR_MUX = Explanation(
     "size parameters n1, n2, ... are never used), so its one vector equation sets a scalar equal "
     "to a vector of several elements")
 
+_NO_INITIAL_STRETCH = Explanation(
+    "has no member `initial_stretch`",
+    "it sets `initial coupler1.initial_stretch`, but its couplers extend "
+    "TranslationalComponents.SpringDamper, whose documented members (help.juliahub.com, Dyad "
+    "standard library: parameters c, d, s_rel0 and the relative states it inherits) include no "
+    "`initial_stretch`")
+
 EXPLAINED: dict[str, Explanation] = {
+    "DyadExampleComponents/dyad/train.dyad:Train": _NO_INITIAL_STRETCH,
+    "DyadExampleComponents/dyad/train_stopper.dyad:TrainStopper": _NO_INITIAL_STRETCH,
     "BlockComponents/dyad/lim_pid.dyad:LimPID": Explanation(
         "is unbalanced",
         "`control_error` is declared but no equation gives it (one unknown too many)"),
