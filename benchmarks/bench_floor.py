@@ -212,7 +212,7 @@ def measure(repeats: int = 5, points=POINTS, models=None, log=print) -> list[dic
                     began = CLOCK()
                     ours(model, n, asked)
                     asked_t.append(CLOCK() - began)
-            difference = max(float(np.max(np.abs(result[name] - floor_xs[i])))
+            difference = max(float(np.max(np.abs(result[name] - floor_xs[i])) / max(1e-300, np.max(np.abs(floor_xs[i]))))
                              for i, name in enumerate(model.state_names))
             row = {"codegen": codegen, "points": n, "floor": statistics.median(floor_t),
                    "floor_build": statistics.median(build_t), "ours": statistics.median(ours_t),
@@ -231,7 +231,7 @@ def _ms(seconds) -> str:
 
 
 HEADER = ("| code | points | floor: bare IDAS [ms] (of it building) | ours, all outputs [ms] | ratio "
-          "| ours, 25 signals asked [ms] | ratio | IDAS steps | max state diff vs floor |")
+          "| ours, 25 signals asked [ms] | ratio | IDAS steps | max state diff vs floor (relative) |")
 
 
 def format_row(r: dict) -> str:

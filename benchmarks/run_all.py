@@ -45,6 +45,8 @@ def main(argv: list[str]) -> int:
     parser.add_argument("--only", default="", help="comma-separated problems (excavator, pendulum, swinging, andrews, robertson)")
     parser.add_argument("--no-compile", action="store_true", help="skip the compile-time measurements")
     parser.add_argument("--no-sweep", action="store_true", help="skip the sweep benchmark (bench_sweep.py)")
+    parser.add_argument("--no-floor", action="store_true", help="skip the floor benchmark (bench_floor.py) and the "
+                                                                "matched-tip-error comparison")
     parser.add_argument("--out", default=str(ROOT / "docs"), help="folder for benchmarks.md (PNGs go to <out>/benchmarks/)")
     args = parser.parse_args(argv)
     os.environ.setdefault("OMP_NUM_THREADS", "1")      # scipy/numpy threads would steal the other core
@@ -72,6 +74,17 @@ def main(argv: list[str]) -> int:
         plots.work_precision_png(run, out / pngs[problem.key])
         log(f"  {time.perf_counter() - began:.0f} s elapsed")
 
+    floor: dict = {}
+    if not args.no_floor:
+        log("== floor: simulate vs a bare IDAS run (bench_floor.py)")
+        import bench_floor
+        floor["rows"] = bench_floor.measure(settings["repeats"], log=lambda line: log("  " + line))
+        excavator = next((r.problem for r in runs if r.problem.key == "excavator"), None)
+        if excavator is not None:
+            log("== matched tip error: dyadc vs scipy Radau at rtol 1e-6")
+            from suite.matched import matched_tip_error
+            floor["matched"] = matched_tip_error(excavator, settings["repeats"], log)
+
     compile_data: dict = {}
     if not args.no_compile:
         log("== compile time")
@@ -88,7 +101,7 @@ def main(argv: list[str]) -> int:
         bench_sweep.main(["--samples", "40" if args.quick else "200", "--doc", str(out / "sweeps.md")])
 
     elapsed = time.perf_counter() - began
-    (out / "benchmarks.md").write_text(report.render(info, runs, compile_data, pngs, settings, elapsed),
+    (out / "benchmarks.md").write_text(report.render(info, runs, compile_data, pngs, settings, elapsed, floor),
                                        encoding="utf-8")
     log(f"wrote {out / 'benchmarks.md'} in {elapsed / 60:.1f} min")
     return 0
