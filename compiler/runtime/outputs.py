@@ -42,7 +42,10 @@ class PointwiseEvaluator:
                         else np.asarray(function.sparsity_out(j).find(), dtype=int)
                         for j in range(function.n_out())]
 
-    def evaluate(self, xs: np.ndarray, zs: np.ndarray, p: np.ndarray, times) -> list[np.ndarray]:
+    def evaluate(self, xs: np.ndarray, zs: np.ndarray, p: np.ndarray, times,
+                 into: np.ndarray | None = None) -> list[np.ndarray]:
+        """`into`: a C-ordered (points x rows) array that receives the first output (dense
+        outputs only); what is returned for it is then its transpose, a view."""
         times = np.ascontiguousarray(np.asarray(times, dtype=float).reshape(-1))
         n = len(times)
         # one point per row of a C-ordered array = CasADi's column-major layout of a mapped input
@@ -50,6 +53,10 @@ class PointwiseEvaluator:
                    np.ascontiguousarray(np.asarray(zs, dtype=float).reshape(self.sizes_in[1], n).T)]
         shared = np.ascontiguousarray(np.asarray(p, dtype=float).reshape(-1))
         stored = [np.empty((n, self.function.nnz_out(j))) for j in range(self.function.n_out())]
+        if into is not None:
+            if self.scatter[0] is not None or into.shape != stored[0].shape or not into.flags.c_contiguous:
+                raise ValueError("`into` must be a C-ordered (points x rows) array of a dense output")
+            stored[0] = into
         done = 0
         for width, function in self.widths:
             upto = done + (n - done) // width * width
@@ -166,11 +173,11 @@ def evaluate_outputs(model: CompiledModel, xs: np.ndarray, zs: np.ndarray, p: np
     runs = list(_parameter_runs(p, n))
     if len(runs) == 1:
         return fast.evaluate(xs, zs, runs[0][2], times)[0]
-    out = np.empty((count, n))
+    rows_first = np.empty((n, count))              # each run fills its rows in place
     for first, last, p_run in runs:
-        out[:, first:last] = fast.evaluate(xs[:, first:last], zs[:, first:last], p_run,
-                                           times[first:last])[0]
-    return out
+        fast.evaluate(xs[:, first:last], zs[:, first:last], p_run, times[first:last],
+                      into=rows_first[first:last])
+    return rows_first.T
 
 
 def signals_at(model: CompiledModel, xs: np.ndarray, zs: np.ndarray, p: np.ndarray,
