@@ -1,11 +1,13 @@
 """Where the samples run: one after another in this process, or in batches on Dask workers.
 
 Every sample runs through worker.run_sample on a model deserialized from the same payload, so a
-serial run and a Dask run compute the same numbers. On Dask, the payload is scattered to every
-worker once; each task runs one batch of samples, sized from a pilot run (sample 0, run here)
-so that the per-task cost stays under a tenth of the work. A worker that dies takes its running
-and queued batches with it; the scheduler re-runs them elsewhere (distributed's own recovery),
-and a batch that kills workers repeatedly is recorded as failed instead of ending the sweep.
+serial run and a Dask run compute the same numbers. On Dask, each payload (one per compiled
+model) is a task of its own, fetched once by each worker that needs it; each sample task runs one
+batch of samples, sized from a pilot run (the first sample, run here) so that the per-task cost
+stays under a tenth of the work. A worker that dies takes its running and queued batches with it;
+the scheduler re-runs them (and the payload task, if it held the only copy) on the others or on a
+replacement (distributed's own recovery). A batch that kills workers repeatedly is recorded as
+failed; a cluster left without any worker ends the sweep with an error naming what is missing.
 """
 from __future__ import annotations
 
@@ -28,6 +30,7 @@ TASK_OVERHEAD_S = 0.02
 OVERHEAD_SHARE = 0.1
 # A cluster with no worker at all for this long (nothing restarted one) ends the sweep.
 LOST_AFTER_S = 60.0
+RESULT_WAIT_S = 10.0     # fetching a finished batch's outcomes; longer means they were lost
 
 Sample = tuple[int, dict[str, float]]
 Part = tuple[ModelPayload, Sequence[Sample]]      # samples that run on one compiled model
@@ -93,7 +96,9 @@ def _run_batches(client, parts: Sequence[Part], job: Job, size: int, report: Rep
     for payload, samples in parts:
         if not samples:
             continue
-        model = client.scatter(payload, broadcast=True, hash=False)
+        # A task that returns the payload, not scattered data: a worker that dies with the only
+        # copy takes nothing that cannot be recomputed (the scheduler re-runs the task elsewhere).
+        model = client.submit(_payload, payload, key=f"dyadc-model-{token}-{len(models)}", pure=False)
         models.append(model)
         for i in range(0, len(samples), size):
             batch = samples[i:i + size]
@@ -101,10 +106,17 @@ def _run_batches(client, parts: Sequence[Part], job: Job, size: int, report: Rep
                                    key=f"dyadc-sweep-{token}-{len(futures)}")
             futures.append(future)
             batch_of[future.key] = batch
+    pending = as_completed(futures)
     try:
-        for future in _completed(as_completed(futures), _watching_workers(client, poll, lost_after)):
+        for future in _completed(pending, _watching_workers(client, poll, lost_after)):
+            if future.status in ("pending", "lost"):
+                pending.add(future)               # its result died with a worker: wait for the re-run
+                continue
             try:
-                outcomes = future.result()
+                outcomes = future.result(timeout=RESULT_WAIT_S)
+            except TimeoutError:
+                pending.add(future)               # lost between finishing and being fetched
+                continue
             except (ImportError, AttributeError) as err:
                 raise DyadError(f"the Dask workers cannot run dyadc: {type(err).__name__}: {err}",
                                 hint="install this dyadc in the workers' environment "
@@ -120,6 +132,10 @@ def _run_batches(client, parts: Sequence[Part], job: Job, size: int, report: Rep
     finally:
         for model in models:
             model.release()
+
+
+def _payload(payload: ModelPayload) -> ModelPayload:
+    return payload
 
 
 def _watching_workers(client, poll: Callable[[], None], lost_after: float) -> Callable[[], None]:

@@ -1,6 +1,9 @@
 """Sweeps on real Dask processes: a LocalCluster of two worker processes, a `dask scheduler` /
-`dask worker` pair reached through `dyadc sweep --scheduler`, and a worker killed mid-sweep.
-Every Dask result must equal the serial run of the same sample, number for number."""
+`dask worker` pair reached through `dyadc sweep --scheduler`, workers killed mid-sweep (one of
+two, the only one with a nanny to replace it, the only one without), a switching model and
+recompiled sizes on one cluster. Every Dask result must equal the serial run of the same sample,
+number for number; every test is bounded in time and stops what it started."""
+import contextlib
 import json
 import logging
 import os
@@ -15,6 +18,7 @@ import pytest
 
 distributed = pytest.importorskip("distributed", reason="the sweep extra (dask.distributed) is not installed")
 
+from compiler.errors import DyadError  # noqa: E402
 from compiler.pipeline import compile_spec  # noqa: E402
 from compiler.sweep import SweepOptions, sweep  # noqa: E402
 from tests.sweep.models import write_decay  # noqa: E402
@@ -40,16 +44,42 @@ def serial(decay):
     return sweep(decay, GRID, SweepOptions(serial=True, **RUN))
 
 
+@contextlib.contextmanager
+def local_cluster(workers: int):
+    local = distributed.LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                     dashboard_address=None, silence_logs=logging.CRITICAL)
+    try:
+        client = distributed.Client(local)
+        try:
+            yield local, client
+        finally:
+            client.close()
+    finally:
+        local.close()
+
+
 @pytest.fixture
 def cluster():
-    local = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
-                                     dashboard_address=None, silence_logs=logging.CRITICAL)
-    client = distributed.Client(local)
+    with local_cluster(2) as both:
+        yield both
+
+
+class Expired(BaseException):
+    """Not an Exception: nothing on the way may record it as a failed sample and go on."""
+
+
+@contextlib.contextmanager
+def deadline(seconds: int):
+    """Fail instead of hanging: SIGALRM raises in the test after `seconds`."""
+    def expire(*_):
+        raise Expired(f"still running after {seconds} s")
+    previous = signal.signal(signal.SIGALRM, expire)
+    signal.alarm(seconds)
     try:
-        yield local, client
+        yield
     finally:
-        client.close()
-        local.close()
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
 
 
 def assert_same_outcomes(result, reference):
@@ -118,6 +148,48 @@ def test_a_worker_killed_mid_sweep_costs_only_its_samples_which_are_re_run(decay
     assert any(result.outcomes[s].worker != killed["address"] for s in lost_samples)   # re-run elsewhere
 
 
+def test_the_only_worker_killed_mid_sweep_is_replaced_and_its_samples_re_run(decay, serial):
+    with local_cluster(1) as (local, client), deadline(240):
+        pid = next(iter(client.run(os.getpid).values()))
+        killed = []
+
+        def kill_the_worker(outcome):
+            if not killed and outcome.worker != "local":
+                killed.append(outcome.worker)
+                os.kill(pid, signal.SIGKILL)          # its nanny starts a replacement
+
+        result = sweep(decay, GRID, SweepOptions(batch_size=2, on_sample=kill_the_worker, **RUN),
+                       scheduler=local.scheduler_address)
+        assert killed
+        assert_same_outcomes(result, serial)           # the payload and the lost batches were re-run
+        later = {o.worker for o in result.outcomes.values()} - {"local", killed[0]}
+        assert later and later != {killed[0]}          # by the replacement, at another address
+
+
+def test_several_compiled_models_on_one_cluster_a_switching_model_and_recompiled_sizes(
+        decay_file, cluster):
+    from tests.sweep.test_state_sets import GRID as PENDULUM_GRID, RUN as PENDULUM_RUN, pendulum
+    local, client = cluster
+    switching = pendulum()
+    on_dask = sweep(switching, PENDULUM_GRID, SweepOptions(batch_size=1, **PENDULUM_RUN),
+                    scheduler=local.scheduler_address)
+    here = sweep(switching, PENDULUM_GRID, SweepOptions(serial=True, **PENDULUM_RUN))
+    assert_same_outcomes(on_dask, here)                # here = separate runs: test_state_sets.py
+    sizes = {"n": [1, 3], "k": [0.5, 2.0], "c": [0.3, -2.0]}
+    options = dict(stop=2.0, points=101, variables=["x", "y[1]"], metrics=["final(y[1])"], recompile=True)
+    on_dask = sweep(str(decay_file), sizes, SweepOptions(batch_size=1, **options),
+                    scheduler=local.scheduler_address)
+    here = sweep(str(decay_file), sizes, SweepOptions(serial=True, **options))
+    assert on_dask.stats["compiled_models"] == 2 and len(here.failed) == 4
+    assert_same_outcomes(on_dask, here)
+
+    def compiler_modules():
+        import sys as worker_sys
+        return sorted(m for m in ("sympy", "lark", "compiler.pipeline", "compiler.sweep.variants")
+                      if m in worker_sys.modules)
+    assert all(found == [] for found in client.run(compiler_modules).values())
+
+
 def _start(args, log):
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     return subprocess.Popen(args, stdout=log, stderr=subprocess.STDOUT, cwd=ROOT, env=env,
@@ -134,10 +206,10 @@ def _stop(process):
             process.wait(timeout=20)
 
 
-@pytest.fixture
-def scheduler_and_worker(tmp_path):
-    """`dask scheduler` on 127.0.0.1 (a free port of its choosing) and a `dask worker` with two
-    processes, both stopped when the test ends, passed or failed."""
+@contextlib.contextmanager
+def dask_commands(tmp_path, worker_args, workers: int):
+    """`dask scheduler` on 127.0.0.1 (a free port of its choosing) and `dask worker WORKER_ARGS`,
+    both stopped when the test ends, passed or failed. Yields (address, worker process)."""
     address_file = tmp_path / "scheduler.json"
     log = open(tmp_path / "dask.log", "w")
     processes = []
@@ -150,15 +222,50 @@ def scheduler_and_worker(tmp_path):
             time.sleep(0.2)
         address = json.loads(address_file.read_text())["address"]
         assert address.startswith("tcp://127.0.0.1:")
-        processes.append(_start([str(BIN / "dask"), "worker", address, "--nworkers", "2", "--nthreads", "1",
+        processes.append(_start([str(BIN / "dask"), "worker", address, *worker_args, "--nthreads", "1",
                                  "--no-dashboard", "--host", "127.0.0.1"], log))
         with distributed.Client(address, timeout="30s") as client:
-            client.wait_for_workers(2, timeout=60)
-        yield address
+            client.wait_for_workers(workers, timeout=60)
+        yield address, processes[1]
     finally:
         for process in reversed(processes):
             _stop(process)
         log.close()
+
+
+@pytest.fixture
+def scheduler_and_worker(tmp_path):
+    """A scheduler and a `dask worker` with two processes."""
+    with dask_commands(tmp_path, ["--nworkers", "2"], 2) as (address, _):
+        yield address
+
+
+def test_a_cluster_left_without_workers_ends_the_sweep_naming_the_lost_samples(decay, tmp_path):
+    pq = pytest.importorskip("pyarrow.parquet")
+    with dask_commands(tmp_path, ["--no-nanny"], 1) as (address, worker), deadline(180):
+        killed = []
+
+        def kill_the_only_worker(outcome):
+            if not killed and outcome.worker != "local":
+                killed.append(outcome.sample)
+                os.killpg(worker.pid, signal.SIGKILL)   # no nanny: nothing replaces it
+
+        partial = tmp_path / "sweep.partial.parquet"
+        began = time.monotonic()
+        with pytest.raises(DyadError) as info:
+            sweep(decay, {"k": list(np.linspace(0.5, 4.0, 40))},
+                  SweepOptions(stop=20.0, points=2001, batch_size=1, on_sample=kill_the_only_worker,
+                               lost_worker_timeout=3.0, partial_output=partial),
+                  scheduler=address)
+        assert killed and time.monotonic() - began < 120
+    text = info.value.format()
+    done = pq.read_table(tmp_path / "sweep.partial.samples.parquet").to_pydict()["sample"]
+    missing = sorted(set(range(40)) - set(done))
+    assert missing and 0 in done
+    assert "the sweep lost its workers: the Dask cluster has had no worker for" in text
+    assert f"{len(missing)} samples did not finish" in text
+    assert f"samples {missing[0]}-" in text or f"samples {missing[0]}," in text
+    assert f"the {len(done)} finished samples are in {partial}" in text
 
 
 def test_cli_on_a_dask_scheduler_and_worker_started_as_commands(decay_file, serial, scheduler_and_worker,

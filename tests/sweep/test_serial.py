@@ -82,14 +82,6 @@ def test_unknown_signals_and_metric_names_fail_before_any_run(decay):
         run(decay, {"k": [1.0]}, metrics=["max(y3)"])
 
 
-def test_a_model_whose_state_set_switches_is_refused():
-    compilation = compile_spec("StructureModels.CartesianPendulumHigh",
-                               [str(ROOT / "tests" / "structure" / "models")])
-    assert compilation.dynamic
-    with pytest.raises(DyadError, match="its state set switches during the run"):
-        sweep(compilation, {"L": [1.0, 2.0]}, SweepOptions(stop=1.0, serial=True))
-
-
 def test_tables_written_as_parquet_and_csv_hold_the_same_numbers(decay, tmp_path):
     pq = pytest.importorskip("pyarrow.parquet")
     result = run(decay, {"k": [1.0, 2.0], "c": [0.0, -2.0]}, metrics=["final(x)"],
