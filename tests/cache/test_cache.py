@@ -200,3 +200,22 @@ def test_the_python_api_uses_the_cache_when_asked(tmp_path, monkeypatch):
     for name in ("y", "d.x"):
         assert np.array_equal(runs[0][name], runs[1][name])
     assert simulate("CacheLib.Scaled", 1.0, lib_dirs=[str(library)], points=11)["y"][-1] == runs[0]["y"][-1]
+
+
+@retried_if_the_compiler_changes
+def test_a_failure_during_a_run_from_the_cache_is_located_as_without_it(tmp_path):
+    cache = tmp_path / "cache"
+    write(tmp_path / "lib" / "BoundLib" / "Rise.dyad", """
+        component Rise
+          variable x::Real(max = 1.5)
+        relations
+          initial x = 1.0
+          der(x) = 1.0
+        end
+        """)
+    run = ("simulate", "BoundLib.Rise", "-L", tmp_path / "lib", "--stop", "2")
+    first, from_cache, from_source = (dyadc(cache, *run), dyadc(cache, *run), dyadc(cache, *run, "--no-cache"))
+    assert first.code == from_cache.code == from_source.code == 1
+    assert not from_cache.compiled                     # located without compiling
+    assert "Rise.dyad:2:3: note: `x` is declared here" in from_cache.stderr
+    assert from_cache.stderr == from_source.stderr == first.stderr
