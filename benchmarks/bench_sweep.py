@@ -1,6 +1,10 @@
 """Sweep benchmark: a 200-sample soil-stiffness sweep of the excavator's 12 s dig cycle, run
 serially and on LocalClusters of 2 and 4 worker processes.
 
+The stiffness range is the one in which every sample completes its dig cycle at about the nominal
+run's cost: beyond about 3e6 the boom cylinder empties (a bound) and a few samples take a hundred
+times longer before they stop, so the throughput would measure those few samples, not the engine.
+
     .venv/bin/python benchmarks/bench_sweep.py                 # writes its table into docs/sweeps.md
     .venv/bin/python benchmarks/bench_sweep.py --samples 40 --workers 2 --no-write
 
@@ -30,7 +34,7 @@ from suite import machine  # noqa: E402
 
 MODEL = "MultibodyComponents.PlanarMechanics.examples.excavator.Excavator"
 PARAMETER = "soil.k_phi"
-RANGE = (2e5, 5e6)
+RANGE = (2e5, 2.5e6)
 METRICS = ["depth=max(soil.d)", "payload=final(soil.m_load)", "peak_Fy=max(soil.F_y)"]
 VARIABLES = ["soil.d", "soil.m_load", "bucket.frame_b.y"]
 BEGIN, END = "<!-- bench_sweep:begin -->", "<!-- bench_sweep:end -->"

@@ -1,5 +1,6 @@
-"""`sweep(model, grid_or_samples, options, scheduler=None) -> SweepResult`: compile once here,
-check every request against the compiled model, run the samples, collect the outcomes."""
+"""`sweep(model, grid_or_samples, options, scheduler=None) -> SweepResult`: compile once here
+(once per structural value with `recompile`), check every request against the compiled model, run
+the samples, collect the outcomes."""
 from __future__ import annotations
 
 import multiprocessing

@@ -251,7 +251,9 @@ def _quiet(name: str) -> Iterator[None]:
 @contextlib.contextmanager
 def _interrupts_ignored_by_children() -> Iterator[None]:
     """Ctrl-C goes to the whole process group: worker processes started while SIGINT is ignored
-    keep ignoring it, so that only this process reacts (it cancels the sweep and stops them)."""
+    keep ignoring it, so that only this process reacts (it cancels the sweep and stops them).
+    A Ctrl-C in this window (the seconds a local cluster takes to start) is therefore not seen;
+    blocking SIGINT meanwhile as well did not keep it pending (tried: it was still lost)."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return

@@ -1,5 +1,6 @@
 """`dyadc sweep` from the command line: without Dask, bad requests, and Ctrl-C (serial and on a
 local cluster) keeping the finished samples in a file named as partial."""
+import math
 import os
 import re
 import signal
@@ -106,6 +107,7 @@ def test_ctrl_c_keeps_the_finished_samples_in_a_partial_file(tmp_path, engine):
     trajectories = pq.read_table(tmp_path / "sweep.partial.parquet").to_pydict()
     done = len(samples["sample"])
     assert 3 <= done < 3000 and set(samples["status"]) == {"ok"}
+    assert all(math.isfinite(v) for v in samples["final(x)"])     # the metrics of what finished
     assert len(trajectories["time"]) == 2001 * done
     assert f"the {done} finished samples are in" in err
     deadline = time.monotonic() + 60                  # nothing of the sweep is left running
