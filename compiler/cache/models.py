@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -24,6 +25,10 @@ ENTRY_FORMAT = 1
 MODELS_FOLDER = "models"
 MANIFEST_SUFFIX = ".manifest"
 ENTRY_SUFFIX = ".model"
+# The models folder is kept under this size: after a store, the least recently used files go
+# first (a hit touches its entry) until it is under three quarters of it.
+MAX_FOLDER_BYTES = 512 * 1024 * 1024
+STALE_TEMPORARY_SECONDS = 3600        # a writer's temporary file older than this was left by a killed run
 # A source modified this close to (or after) the start of the compile that read it may not be
 # the version that was read: such a compile is not stored (mtime granularity is a few ms).
 MTIME_MARGIN_NS = 20_000_000
@@ -86,6 +91,7 @@ def load(spec: str, lib_dirs: Sequence[str] = ()) -> CachedCompilation | None:
     if found is None:
         return None
     model, needs_values, declarations, notes = found
+    _touch(folder / f"{key}{ENTRY_SUFFIX}")
     return CachedCompilation(model, spec, tuple(lib_dirs), key, needs_values, declarations, notes,
                              {"cache": time.perf_counter() - began})
 
@@ -129,7 +135,46 @@ def store(spec: str, lib_dirs: Sequence[str], inputs: list[keys.Input], compilat
     manifest = {"format": ENTRY_FORMAT, "spec": keys.normalized_spec(spec), "entry": key,
                 "inputs": [list(item) for item in recorded]}
     write_sealed(folder / f"{lookup}{MANIFEST_SUFFIX}", _dumps(manifest))
+    prune(folder)
     return key
+
+
+def prune(folder: Path, limit: int | None = None) -> list[Path]:
+    """Delete the least recently used files of `folder` until it holds under three quarters of
+    `limit` bytes (default MAX_FOLDER_BYTES) once it holds more, and temporary files of killed
+    writers. A manifest whose entry is gone, or an entry without its manifest, is only a miss."""
+    limit = MAX_FOLDER_BYTES if limit is None else limit
+    now = time.time()
+    files, removed = [], []
+    for path in folder.iterdir():
+        try:
+            info = path.stat()
+        except OSError:
+            continue
+        if path.name.startswith(".") and ".tmp" in path.name:
+            if now - info.st_mtime > STALE_TEMPORARY_SECONDS:
+                path.unlink(missing_ok=True)
+                removed.append(path)
+            continue
+        if path.is_file() and path.name != ".lock":
+            files.append((info.st_mtime, info.st_size, path))
+    total = sum(size for _, size, _ in files)
+    if total <= limit:
+        return removed
+    for _, size, path in sorted(files, key=lambda item: item[0]):
+        if total <= limit * 3 // 4:
+            break
+        path.unlink(missing_ok=True)
+        removed.append(path)
+        total -= size
+    return removed
+
+
+def _touch(path: Path) -> None:
+    try:
+        os.utime(path)
+    except OSError:
+        pass
 
 
 def _needs_values(compilation) -> list[str]:

@@ -219,3 +219,23 @@ def test_a_failure_during_a_run_from_the_cache_is_located_as_without_it(tmp_path
     assert not from_cache.compiled                     # located without compiling
     assert "Rise.dyad:2:3: note: `x` is declared here" in from_cache.stderr
     assert from_cache.stderr == from_source.stderr == first.stderr
+
+
+def test_the_models_folder_is_pruned_least_recently_used_first(tmp_path):
+    import time
+
+    from compiler.cache import models
+    folder = tmp_path / "models"
+    folder.mkdir()
+    now = time.time()
+    for age, name in enumerate(["newest.model", "middle.model", "oldest.model", "old.manifest"]):
+        path = folder / name
+        path.write_bytes(b"x" * 100)
+        os.utime(path, (now - 10 * age, now - 10 * age))
+    killed = folder / ".abc.model.x1y2.tmp.model"
+    killed.write_bytes(b"half")
+    os.utime(killed, (now - 2 * models.STALE_TEMPORARY_SECONDS,) * 2)
+    assert models.prune(folder, limit=1000) == [killed]          # under the limit: only the leftover
+    removed = models.prune(folder, limit=300)
+    assert sorted(p.name for p in removed) == ["old.manifest", "oldest.model"]
+    assert sorted(p.name for p in folder.iterdir()) == ["middle.model", "newest.model"]
