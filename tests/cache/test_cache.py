@@ -8,6 +8,7 @@ import math
 import os
 import stat
 import subprocess
+import time
 
 import pytest
 
@@ -58,7 +59,7 @@ def test_an_edited_function_plugin_is_compiled_again(tmp_path):
     cache, library = tmp_path / "cache", small_library(tmp_path / "lib")
     before = scaled(cache, library)
     plugin = library / "CacheLib" / "dyad_functions.py"
-    plugin.write_text(plugin.read_text().replace("3 * x", "4 * x"))
+    write(plugin, plugin.read_text().replace("3 * x", "4 * x"))
     after = scaled(cache, library)
     assert before.code == after.code == 0 and after.compiled
     assert after.final("y") == pytest.approx(4 / 3 * before.final("y"), rel=1e-9)    # 10 digits printed
@@ -177,7 +178,7 @@ def test_cache_info_and_clear(tmp_path):
 def test_a_missing_parameter_value_is_the_same_located_error_from_a_hit(tmp_path):
     cache, library = tmp_path / "cache", small_library(tmp_path / "lib")
     decay = library / "CacheLib" / "Decay.dyad"
-    decay.write_text(decay.read_text().replace("k::Real = 2.0", "k::Real"))
+    write(decay, decay.read_text().replace("k::Real = 2.0", "k::Real"))
     given = scaled(cache, library, "-p", "d.k=2")
     assert given.code == 0, given.stderr
     from_cache = scaled(cache, library)
@@ -222,8 +223,6 @@ def test_a_failure_during_a_run_from_the_cache_is_located_as_without_it(tmp_path
 
 
 def test_the_models_folder_is_pruned_least_recently_used_first(tmp_path):
-    import time
-
     from compiler.cache import models
     folder = tmp_path / "models"
     folder.mkdir()
@@ -239,3 +238,15 @@ def test_the_models_folder_is_pruned_least_recently_used_first(tmp_path):
     removed = models.prune(folder, limit=300)
     assert sorted(p.name for p in removed) == ["old.manifest", "oldest.model"]
     assert sorted(p.name for p in folder.iterdir()) == ["middle.model", "newest.model"]
+
+
+def test_a_source_changed_while_it_was_compiled_is_not_stored(tmp_path, monkeypatch):
+    from compiler.pipeline import compile_or_load
+    monkeypatch.setenv("DYADC_CACHE_DIR", str(tmp_path / "cache"))
+    library = small_library(tmp_path / "lib")
+    later = time.time() + 5                                     # saved while the compile ran
+    os.utime(library / "CacheLib" / "Decay.dyad", (later, later))
+    assert compile_or_load("CacheLib.Scaled", [str(library)]).cache_key is None
+    assert entries(tmp_path / "cache") == []
+    write(library / "CacheLib" / "Decay.dyad", (library / "CacheLib" / "Decay.dyad").read_text())
+    assert compile_or_load("CacheLib.Scaled", [str(library)]).cache_key is not None
