@@ -87,6 +87,13 @@ class CompiledModel:
         new._output_index = {n: i for i, n in enumerate(new.output_names)}
         return new
 
+    def __getstate__(self) -> dict:
+        """Pickled and deep-copied without what was derived (IDAS objects, evaluators, a lock):
+        it is rebuilt on demand."""
+        state = dict(self.__dict__)
+        state["_derived"] = {}
+        return state
+
     @property
     def sizes(self) -> tuple[int, int, int]:
         return len(self.state_names), len(self.algebraic_names), len(self.parameter_names)

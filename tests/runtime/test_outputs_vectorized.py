@@ -2,6 +2,9 @@
 functions point by point gives: outputs, a subset of them, per-segment parameters, polishing."""
 from __future__ import annotations
 
+import copy
+import pickle
+
 import casadi as ca
 import numpy as np
 import pytest
@@ -163,3 +166,10 @@ def test_a_run_computes_only_the_signals_asked_for_with_the_same_values():
         simulate(model, 2.0, points=41, progress=False, signals=["z1x"])
     with pytest.raises(ModelInputError, match="list of names"):
         simulate(model, 2.0, points=41, progress=False, signals="x0")
+
+
+def test_a_model_that_has_run_pickles_and_copies_without_its_derived_functions():
+    model = small_model()
+    first = simulate(model, 1.0, points=11, progress=False)
+    for twin in (pickle.loads(pickle.dumps(model)), copy.deepcopy(model)):
+        np.testing.assert_array_equal(simulate(twin, 1.0, points=11, progress=False).values, first.values)
