@@ -178,10 +178,11 @@ def _floor_section(floor: dict) -> list[str]:
                   "process, medians of interleaved runs; target: ratio <= 1.5.", ""]
         lines += bench_floor.table(floor["rows"]) + [""]
         lines += ["IDAS objects are kept per model (compiler/runtime/integrator.py), so a repeated run "
-                  "builds none: the floor's \"building\" is what the first run of a grid costs on top. "
+                  "builds none: the floor's \"building\" is what the first run of a grid costs on top, and the "
+                  "last ratios compare with the floor's IDAS calls alone (a bare run that kept its integrators). "
                   "The state difference (largest over the states of max |ours - floor| / max |floor|) is "
                   "IDAS's own: the floor leaves the first step of a segment to IDAS, whose choice depends "
-                  "on the first output time; the driver does not.", ""]
+                  "on the first output time; the driver sets it (hence the different step counts).", ""]
     if floor.get("matched"):
         lines += report_lines(floor["matched"])
     return lines
