@@ -71,8 +71,10 @@ def _simulate_cached(cached: CachedCompilation, options: runtime.SimulationOptio
     except runtime.InitializationFailed:
         return from_sources()                   # located at the initial equations
     except runtime.SimulationFailed as err:
-        if err.time_reached is None or err.time_reached <= options.start:
-            return from_sources()               # maybe explained by a parameter value
+        if err.time_reached is None or err.time_reached <= options.start or err.variable is None:
+            # maybe explained by a parameter value, or (a bare solver flag) by an operation
+            # leaving its domain, which the sources locate (compiler/model/run_failures.py)
+            return from_sources()
         raise translate_runtime_error(err, declarations=cached.declarations) from None
     except runtime.ModelInputError as err:
         raise translate_runtime_error(err) from None

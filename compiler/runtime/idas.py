@@ -2,6 +2,7 @@
 so that its flags, explanations and tolerance rules are read in one place."""
 from __future__ import annotations
 
+import io
 import os
 import re
 import sys
@@ -48,6 +49,14 @@ def idas_reason(text: str, solver_messages: str = "") -> str:
     return f"{reason} (IDAS: {said[-1]})" if said and said[-1] else reason
 
 
+def failure_time(solver_messages: str) -> float | None:
+    """The time SUNDIALS says it failed at ("At t = 0.5, mxstep steps taken ..."), in the
+    solver's own time; None when it said none. CasADi's `tcur` after a failure is the last output
+    time reached, which can be far before the failure (t = 0 on a coarse output grid)."""
+    said = re.findall(r"At t = ([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)", solver_messages)
+    return float(said[-1]) if said else None
+
+
 class CapturedStderr:
     """Collect what C code (SUNDIALS) writes to file descriptor 2 during a solver call, so that its
     message becomes part of our error instead of stray text. A no-op where fd 2 is unusable."""
@@ -56,10 +65,14 @@ class CapturedStderr:
         self.text = ""
         self._saved: int | None = None
         self._file = None
+        self._python = None
 
     def __enter__(self) -> "CapturedStderr":
+        # CasADi prints SUNDIALS's messages through Python's sys.stderr, which may not be fd 2
+        # (a caller that redirected it): take those too
+        self._python, sys.stderr = sys.stderr, io.StringIO()
         try:
-            sys.stderr.flush()
+            self._python.flush()
             self._file = tempfile.TemporaryFile(mode="w+b")
             self._saved = os.dup(2)
             os.dup2(self._file.fileno(), 2)
@@ -71,13 +84,16 @@ class CapturedStderr:
         self._restore()
 
     def _restore(self) -> None:
+        if self._python is not None:
+            self.text += sys.stderr.getvalue()
+            sys.stderr, self._python = self._python, None
         if self._saved is not None:
             os.dup2(self._saved, 2)
             os.close(self._saved)
             self._saved = None
         if self._file is not None:
             self._file.seek(0)
-            self.text = self._file.read().decode("utf-8", "replace")
+            self.text += self._file.read().decode("utf-8", "replace")
             self._file.close()
             self._file = None
 

@@ -20,7 +20,7 @@ import numpy as np
 
 from .errors import SimulationFailed, SimulationInterrupted
 from . import interrupts
-from .idas import CapturedStderr, idas_reason
+from .idas import CapturedStderr, failure_time, idas_reason
 from .model import CompiledModel
 
 COUNTERS = {"nsteps": "steps", "nfevals": "residual_evaluations", "n_call_jacF": "jacobian_evaluations",
@@ -119,6 +119,9 @@ class IdasIntegrator:
                 raise SimulationInterrupted(f"interrupted at t = {reached:.10g}", reached,
                                             "interrupted") from None
             reason = idas_reason(str(err), messages.text)
+            said = failure_time(messages.text)
+            if said is not None and math.isfinite(said):
+                reached = model_time(said)
             raise SimulationFailed(f"simulation of {model.name} failed at t = {reached:.10g}: "
                                    f"{reason}", reached, reason) from None
         return Segment(np.asarray(sol["xf"], dtype=float).reshape(nx, n),
