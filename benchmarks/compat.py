@@ -266,6 +266,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--output", type=Path, default=Path("docs/compatibility.md"))
     parser.add_argument("--json", type=Path, help="also write the per-file results as JSON")
     parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--render", type=Path, metavar="JSON",
+                        help="write the report from the results of an earlier run (its --json "
+                             "file) instead of running dyadc")
     options = parser.parse_args(argv)
     corpus = options.corpus.resolve()
     found = corpus_scan.discover_libraries(corpus)
@@ -277,6 +280,10 @@ def main(argv: list[str] | None = None) -> int:
     if not libraries:
         print(f"error: no .dyad files under {corpus}", file=sys.stderr)
         return 2
+    if options.render:
+        saved = json.loads(options.render.read_text(encoding="utf-8"))
+        results, seconds = saved["results"], saved["seconds"]
+        return _write(options, results, libraries, seconds, skipped)
     began = time.perf_counter()
     workdir = Path(tempfile.mkdtemp(prefix="dyadc-compat-"))
     try:
@@ -291,12 +298,17 @@ def main(argv: list[str] | None = None) -> int:
     finally:
         shutil.rmtree(workdir, ignore_errors=True)
     seconds = time.perf_counter() - began
+    if options.json:
+        options.json.write_text(json.dumps({"seconds": seconds, "results": results}, indent=1),
+                                encoding="utf-8")
+    return _write(options, results, libraries, seconds, skipped)
+
+
+def _write(options, results: list[dict], libraries: list, seconds: float, skipped: list) -> int:
     command = f"make compat CORPUS={options.corpus}"
     report = markdown(results, libraries, command, seconds, TIMEOUTS, skipped)
     options.output.parent.mkdir(parents=True, exist_ok=True)
     options.output.write_text(report, encoding="utf-8")
-    if options.json:
-        options.json.write_text(json.dumps(results, indent=1), encoding="utf-8")
     print(f"wrote {options.output} ({seconds / 60:.1f} min)")
     return 0
 

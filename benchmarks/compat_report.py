@@ -25,7 +25,7 @@ def normalise(message: str) -> str:
     line = message.strip().splitlines()[0] if message.strip() else "(no message)"
     line = re.sub(r"^\S+?\.dyad:\d+:\d+:\s*", "", line)
     line = re.sub(r"^(error|internal error):\s*", "", line)
-    line = re.sub(r"\S*/\S+\.(dyad|csv)", "FILE", line)
+    line = re.sub(r"[^\s(]*/\S+\.(dyad|csv|jl)", "FILE", line)
     line = re.sub(r"`[^`]*`", "`…`", line)
     line = re.sub(r"'[^']*'", "'…'", line)
     line = re.sub(r"(?<![\w.])[-+]?\d+(\.\d+)?([eE][-+]?\d+)?", "N", line)
@@ -120,7 +120,11 @@ def totals(results: list[dict]) -> dict[str, tuple[int, int]]:
 
 
 def _pct(done: int, total: int) -> str:
-    return f"{100 * done / total:.0f}%" if total else "-"
+    if not total:
+        return "-"
+    share = 100 * done / total
+    # one decimal unless whole: 285/318 is 89.6%, not a rounded 90% beside "target 90%: no"
+    return f"{share:.0f}%" if share == round(share) else f"{share:.1f}%"
 
 
 def _row(label: str, count: tuple[int, int], target: float | None) -> str:
