@@ -6,7 +6,9 @@
 
 Wall time (time.perf_counter around the process) and CPU time (user + sys of the child, from
 os.wait4) are both reported: on a loaded machine wall time mostly measures the other processes,
-CPU time what dyadc costs. Medians over --repeat runs, the kinds interleaved, after a warm-up run
+CPU time what dyadc costs. The runs use a copy of the sources taken when the benchmark starts (the
+package laid out as a wheel installs it), so that edits made meanwhile in the work tree, which
+rightly make the next run compile again, do not mix into the numbers. Medians over --repeat runs, the kinds interleaved, after a warm-up run
 that writes Python's bytecode (into a temporary folder) as installing a package does. With --profile, one
 more run of each kind under `python -X importtime` gives the import profile (top-level packages,
 cumulative, in ms) and a run in process gives the compile stages.
@@ -31,10 +33,21 @@ ROOT = Path(__file__).resolve().parents[1]
 EXCAVATOR = "MultibodyComponents.PlanarMechanics.examples.excavator.Excavator"
 
 
+SOURCES = ROOT        # replaced by the snapshot in main()
+
+
+def snapshot(folder: Path) -> Path:
+    """A copy of the package as installed: compiler/ with the library in compiler/components/."""
+    ignore = shutil.ignore_patterns("__pycache__", "*.pyc")
+    shutil.copytree(ROOT / "compiler", folder / "compiler", ignore=ignore)
+    shutil.copytree(ROOT / "components", folder / "compiler" / "components", ignore=ignore)
+    return folder
+
+
 def timed_run(command: list[str], env: dict) -> tuple[float, float]:
     """(wall s, CPU s) of one process running `command`, its output discarded."""
     began = time.perf_counter()
-    process = subprocess.Popen(command, cwd=ROOT, env=env, stdout=subprocess.DEVNULL,
+    process = subprocess.Popen(command, cwd=SOURCES, env=env, stdout=subprocess.DEVNULL,
                                stderr=subprocess.PIPE)
     _, status, usage = os.wait4(process.pid, 0)
     wall = time.perf_counter() - began
@@ -84,7 +97,7 @@ def import_profile(model: str, stop: float, cached: bool) -> list[tuple[str, flo
         timed_run(command[:1] + command[3:], env)               # bytecode written, cache filled
         if not cached:
             shutil.rmtree(Path(scratch) / "cache")
-        done = subprocess.run(command, cwd=ROOT, env=env, capture_output=True, text=True)
+        done = subprocess.run(command, cwd=SOURCES, env=env, capture_output=True, text=True)
     rows = []
     for line in done.stderr.splitlines():
         match = re.match(r"import time:\s+\d+ \|\s+(\d+) \| (\S.*)$", line)
@@ -113,7 +126,7 @@ print(json.dumps({{"imports before compiling": imported - began, **stages, "simu
         env = environment(Path(scratch) / "cache", Path(scratch) / "bytecode")
         timed_run([sys.executable, "-c", code], env)               # bytecode written
         shutil.rmtree(Path(scratch) / "cache")
-        done = subprocess.run([sys.executable, "-c", code], cwd=ROOT, env=env, capture_output=True,
+        done = subprocess.run([sys.executable, "-c", code], cwd=SOURCES, env=env, capture_output=True,
                               text=True, check=True)
     return json.loads(done.stdout)
 
@@ -125,15 +138,26 @@ def main() -> int:
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--profile", action="store_true", help="also the import and stage profiles")
     args = parser.parse_args()
+    global SOURCES
+    with tempfile.TemporaryDirectory(prefix="dyadc-bench-sources-") as copy:
+        SOURCES = snapshot(Path(copy))
+        used = subprocess.run([sys.executable, "-c", "import compiler; print(compiler.__file__)"], cwd=SOURCES,
+                              capture_output=True, text=True, check=True).stdout.strip()
+        if not Path(used).is_relative_to(SOURCES):
+            raise SystemExit(f"the runs would import {used}, not the snapshot in {SOURCES}")
+        return report(args)
+
+
+def report(args) -> int:
     samples = measure(args.model, args.stop, args.repeat)
     print(f"dyadc simulate {args.model} --stop {args.stop:g}: medians of {args.repeat} new processes "
           f"(load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores)\n")
-    print("| run | wall s | CPU s | wall, each run |")
-    print("|---|---|---|---|")
+    print("| run | wall s | CPU s | wall, each run | CPU, each run |")
+    print("|---|---|---|---|---|")
     for kind, runs in samples.items():
         walls, cpus = [w for w, _ in runs], [c for _, c in runs]
         print(f"| {kind} | {statistics.median(walls):.2f} | {statistics.median(cpus):.2f} | "
-              f"{' '.join(f'{w:.2f}' for w in walls)} |")
+              f"{' '.join(f'{w:.2f}' for w in walls)} | {' '.join(f'{c:.2f}' for c in cpus)} |")
     if args.profile:
         for cached in (False, True):
             rows = import_profile(args.model, args.stop, cached)
