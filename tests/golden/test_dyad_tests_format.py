@@ -67,6 +67,13 @@ def test_without_atol_a_signal_is_compared_as_dyad_does():
     assert case.rtol is None                # a default-tube signal: run as the golden was made
 
 
+def test_values_at_the_default_tube_are_judged_from_a_run_at_rtol_1e_12():
+    assert golden.reference_rtol(_case()) == golden.STRICT_RTOL == 1e-12
+    assert golden.reference_rtol(_case(atol={"a": 1e-3})) == golden.GOLDEN_RTOL == 1e-10
+    signals_only = _case(atol={"a": 1e-3}, expect={"signals": ["b"], "final": {"a": 1}})
+    assert golden.reference_rtol(signals_only) == golden.GOLDEN_RTOL
+
+
 def test_a_case_with_only_expect_initial_is_a_case():
     case = _case(expect={"initial": {"a": 0.5}})
     assert case.expect_initial == {"a": 0.5} and not case.final and not case.signals
@@ -118,9 +125,9 @@ def test_a_wrong_expected_initial_value_fails_and_names_it(tmp_path, capsys):
 
 
 def test_dyad_default_tolerance_is_relative_sqrt_eps(tmp_path, capsys):
-    # exp(-2) written to 10 digits is off by < 4e-10 relative (the run at rtol 1e-10 adds a few
-    # 1e-9: passes sqrt(eps) = 1.5e-8); to 6 digits by ~2e-6 relative (fails), unless the case
-    # states an atol, which then alone makes the tube.
+    # exp(-2) written to 10 digits is off by < 4e-10 relative (the reference run at rtol 1e-12
+    # adds far less: passes sqrt(eps) = 1.5e-8); to 6 digits by ~2e-6 relative (fails), unless
+    # the case states an atol, which then alone makes the tube.
     exact = math.exp(-2.0)
     model = _write(tmp_path, f'''
         "ten": {{"stop": 1, "initial": {{"x": 1}}, "expect": {{"final": {{"x": "{exact:.10g}"}}}}}},
