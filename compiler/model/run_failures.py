@@ -27,6 +27,8 @@ from compiler.model.flat import TIME
 NEAR_EDGE = 1e-2
 # ... and one that shrank to this fraction of its size, when its trend reaches 0 that soon.
 NEAR_SIZE = 0.1
+# A variable this many times its median size along the run, still growing, is blowing up.
+BLOW_UP = 1e3
 # Candidates evaluated per failure at most (the largest models have thousands of equations).
 MAX_CANDIDATES = 5000
 
@@ -47,15 +49,20 @@ def diagnose(error: SimulationError, compilation, parameter_values: Mapping[str,
     if points is None:
         return error
     times, env = points
-    found = _worst(_candidates(compilation.flat), env, times)
-    if found is None:
-        return error
-    candidate, value, where = found
+    states = set(compilation.reduced.states)
+    found = _worst(_candidates(compilation.flat, states), env, times)
+    if found is not None:
+        candidate, value, where = found
+        words, hint, span = _words(candidate, value, where), _HINTS[candidate.kind], candidate.span
+    else:
+        blowing_up = _blow_up(compilation.flat, env, times)
+        if blowing_up is None:
+            return error
+        words, hint, span = blowing_up
     t = error.time_reached if error.time_reached is not None else float(times[-1])
-    words = _words(candidate, value, where)
     explained = SimulationError(f"simulation of {compilation.model.name} failed at t = {t:.10g}: {words}",
-                                error.time_reached, words, hint=_HINTS[candidate.kind])
-    explained.span = candidate.span
+                                error.time_reached, words, hint=hint)
+    explained.span = span
     explained.partial = error.partial
     explained.notes = [Note(f"the solver reported: {error.message}")]
     return explained
@@ -70,6 +77,8 @@ _HINTS = {
            "of the variables in it",
     "coefficient": "where the factor of a derivative vanishes (a mass, a capacitance, an inertia "
                    "of 0) the equation no longer determines it; keep that factor away from 0",
+    "jacobian": "an algebraic equation whose derivative with respect to its unknown vanishes has a "
+                "double root there and often no real solution beyond it (z^2 = 1 - time at t = 1)",
     "asin": "asin and acos take values in [-1, 1]; check the argument's scale",
 }
 
@@ -82,6 +91,9 @@ def _words(candidate: _Candidate, value: float, where: str) -> str:
     if candidate.kind == "coefficient":
         return (f"the factor `{operand}` of `{shown}` in this equation reaches 0, so nothing determines "
                 f"{shown} any more ({operand} = {value:.4g} {where})")
+    if candidate.kind == "jacobian":
+        return (f"this equation stops determining `{shown}`: its derivative with respect to {shown}, "
+                f"`{operand}`, reaches 0 ({value:.4g} {where}); past that point it may have no solution")
     if candidate.kind == "asin":
         return f"the argument of `{shown}` leaves [-1, 1] ({operand} = {value:.4g} {where})"
     name = "square root" if candidate.kind == "sqrt" else "logarithm"
@@ -148,12 +160,13 @@ def _run_towards(model, parameter_values: Mapping[str, float], start: float, t_f
 
 # ------------------------------------------------------------------------ what can leave its domain
 
-def _candidates(flat) -> list[_Candidate]:
+def _candidates(flat, states: set[str]) -> list[_Candidate]:
     found: list[_Candidate] = []
+    unknowns = {v.name for v in flat.variables} - states
     for equation in flat.equations:
         span = getattr(equation.origin, "span", None)
         path = getattr(equation.origin, "path", "")
-        found.extend(_coefficients(equation.residual, span, path))
+        found.extend(_coefficients(equation.residual, unknowns, span, path))
         for node in _unguarded(equation.residual):
             if len(found) >= MAX_CANDIDATES:
                 return found
@@ -174,17 +187,46 @@ def _unguarded(expr: sympy.Expr):
             stack.extend(node.args)
 
 
-def _coefficients(residual: sympy.Expr, span: Span | None, path: str) -> list[_Candidate]:
+def _coefficients(residual: sympy.Expr, unknowns: set[str], span: Span | None,
+                  path: str) -> list[_Candidate]:
     """The factor of each derivative in an equation linear in it: where it reaches 0 the
-    derivative is no longer determined (a mass that vanishes)."""
+    derivative is no longer determined (a mass that vanishes); likewise the derivative of the
+    equation with respect to an algebraic unknown in it (z^2 = 1 - time at t = 1)."""
     found = []
-    derivatives = [s for s in residual.free_symbols if s.name.startswith("der(")]
-    for derivative in sorted(derivatives, key=lambda s: s.name):
-        factor = sympy.diff(residual, derivative)
+    for symbol in sorted(residual.free_symbols, key=lambda s: s.name):
+        derivative = symbol.name.startswith("der(")
+        if not derivative and symbol.name not in unknowns:
+            continue
+        factor = sympy.diff(residual, symbol)
         if factor.is_number or any(s.name.startswith("der(") for s in factor.free_symbols):
             continue
-        found.append(_Candidate("coefficient", factor, derivative, span, path))
+        found.append(_Candidate("coefficient" if derivative else "jacobian", factor, symbol, span, path))
     return found
+
+
+def _blow_up(flat, env: dict[str, np.ndarray], times: np.ndarray) -> tuple[str, str, Span | None] | None:
+    """(words, hint, declaration) of the variable that grows fastest towards the failure, when one
+    grows by more than BLOW_UP times its typical size along the run: a finite-time blow-up."""
+    best = None
+    for variable in flat.variables:
+        series = env.get(variable.name)
+        if series is None or len(series) < 3 or not np.isfinite(series).all():
+            continue
+        typical = float(np.median(np.abs(series)))
+        last = abs(float(series[-1]))
+        if last <= BLOW_UP * max(typical, 1e-300) or not abs(series[-1]) > abs(series[-2]) > abs(series[-3]):
+            continue
+        ratio = last / max(typical, 1e-300)
+        if best is None or ratio > best[0]:
+            best = (ratio, variable, float(series[-1]), float(times[-1]))
+    if best is None:
+        return None
+    _, variable, value, t = best
+    words = (f"`{variable.name}` grows without bound ({variable.name} = {value:.4g} at t = {t:.6g}, "
+             f"{best[0]:.3g} times its typical size in this run): the solution blows up in finite time")
+    return words, ("a quantity that grows faster than linearly in itself (der(x) = x^2) reaches "
+                   "infinity in finite time; check the signs and the powers in its equations"), \
+        getattr(variable.origin, "span", None)
 
 
 def _restricted(node, span: Span | None, path: str) -> _Candidate | None:

@@ -104,3 +104,26 @@ def test_the_failure_time_is_where_the_solver_failed_not_the_last_output_time(tm
         runtime.simulate(api.compile(str(path)).model, 2.0, points=5)
     assert caught.value.time_reached == pytest.approx(0.5, abs=1e-5)
     assert "failed at t = 0.5" in str(caught.value)
+
+
+@pytest.mark.parametrize("text, line, words", [
+    ("component Z\n  variable x::Real(initial = 0.0)\n  variable z::Real(guess = 1.0)\nrelations\n"
+     "  der(x) = z\n  z^2 = 1 - time\nend\n", 6,
+     r"failed at t = (?:0\.99\d+|1): this equation stops determining `z`: its derivative with respect to z, "
+     r"`2\*z`, reaches 0"),
+    ("component Z\n  variable x::Real(initial = 1.0)\n  variable z::Real(guess = 1.0)\nrelations\n"
+     "  der(x) = -z\n  z * x = 1\nend\n", 6,
+     r"failed at t = 0\.49\d+: this equation stops determining `z`: its derivative with respect to z, "
+     r"`x`, reaches 0"),
+    ("component Z\n  variable x::Real(initial = 1.0)\nrelations\n  der(x) = x^2\nend\n", 2,
+     r"failed at t = 0\.99\d+: `x` grows without bound \(x = [\d.e+]+ at t = 0\.99\d+, .* the solution "
+     r"blows up in finite time"),
+], ids=["double-root", "vanishing-factor-of-an-algebraic", "finite-time-blow-up"])
+def test_algebraic_equations_losing_their_solution_and_blow_ups_are_named(tmp_path, text, line, words):
+    path = tmp_path / "Z.dyad"
+    path.write_text(text, encoding="utf-8")
+    with pytest.raises(DyadError) as caught:
+        api.simulate(str(path), 2.0)
+    message = caught.value.format()
+    assert re.match(rf"{re.escape(str(path))}:{line}:3: error: simulation of Z {words}", message), message
+    assert "note: the solver reported: simulation of Z failed at t = " in message
