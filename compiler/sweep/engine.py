@@ -24,9 +24,11 @@ from typing import Callable, Iterator, Sequence
 from compiler.errors import DyadError
 from compiler.sweep.worker import Job, ModelPayload, Outcome, load_model, run_batch, run_sample
 
-# Cost of one Dask task beyond its work: submit, schedule, ship, return (benchmarks/bench_sweep.py
-# measures it; a few ms on 2 cores). Batches are sized so that this stays under OVERHEAD_SHARE.
-TASK_OVERHEAD_S = 0.02
+# CPU cost of one Dask task beyond its work: submit, schedule, ship, return. Estimated from
+# benchmarks/bench_sweep.py (2 processes, 50 tasks of 4 excavator samples: 8.2 CPU s over the
+# serial run, of which about 6 are the cluster's idle cost, 64 ms CPU per second it exists, over
+# 97 s): about 40 ms a task. Batches are sized so that this stays under OVERHEAD_SHARE.
+TASK_OVERHEAD_S = 0.04
 OVERHEAD_SHARE = 0.1
 # A cluster with no worker at all for this long (nothing restarted one) ends the sweep.
 LOST_AFTER_S = 60.0
@@ -70,16 +72,21 @@ def run_dask(parts: Sequence[Part], job: Job, report: Report, *,
     if not parts:
         return {"engine": "dask", "workers": 0, "batch_size": 0}
     # The pilot (the first sample) runs here: it sizes the batches and surfaces a bad request at once.
+    # Its CPU time, not its wall time, measures the work: on a busy machine the wall time is
+    # mostly waiting, and batches sized from it come out too small.
+    began_cpu = time.process_time()
     pilot = run_sample(load_model(parts[0][0]), job, *parts[0][1][0])
+    pilot_cpu = time.process_time() - began_cpu
     report(pilot)
     parts[0] = (parts[0][0], parts[0][1][1:])
     left = sum(len(samples) for _, samples in parts)
     began = time.perf_counter()
     with dask_client(scheduler, workers) as client:
         n_workers = max(1, len(client.scheduler_info().get("workers", {})))
-        size = batch or batch_size(pilot.seconds, left, n_workers)
+        size = batch or batch_size(pilot_cpu, left, n_workers)
         stats = {"engine": "dask", "workers": n_workers, "batch_size": size,
                  "scheduler": scheduler or "LocalCluster", "pilot_seconds": pilot.seconds,
+                 "pilot_cpu_seconds": pilot_cpu,
                  "connect_seconds": time.perf_counter() - began}
         began = time.perf_counter()
         if left:
