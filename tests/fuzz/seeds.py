@@ -68,7 +68,9 @@ SEEDS = (OSCILLATOR, RC_LADDER, LIBRARY_RC)
 # Numbers at and beyond the edges of a double, and integers far beyond them.
 EXTREME_NUMBERS = ("nan", "inf", "-inf", "1e308", "-1e308", "1e400", "1e-400", "5e-324", "-0", "-0.0",
                    "0", "0.0", "1" + "0" * 5000, "9" * 400, "1e99999", ".5e", "0x1F", "1_000",
-                   "00012", "1.7976931348623157e308", "2.2250738585072014e-308")
+                   "00012", "1.7976931348623157e308", "2.2250738585072014e-308",
+                   # sizes and exact powers beyond any model (issue 19 item 5): a located error
+                   "1000000000", "9^9^9", "2^100000")
 
 # Names a careless or hostile user might give: quotes, code, Unicode, path separators, keywords.
 HOSTILE_NAMES = ('a"b', "a'b", '"""', "'''", "ω₀", "x\u202ey", "名前", "__import__",

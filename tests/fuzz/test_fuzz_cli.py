@@ -83,17 +83,19 @@ def test_mutated_model_gives_success_or_clear_error(fuzz_base, seed, command, mu
         assert is_located(outcome), f"a syntax error without FILE:LINE:COL\n{outcome.describe()}"
 
 
-# Values an option may get: extreme numbers, hostile names, paths that are folders, missing,
-# or of an unknown format, parameter overrides and signal names. No NUL: a shell cannot pass one.
-ARGUMENT_VALUES = tuple(v for v in EXTREME_NUMBERS + HOSTILE_NAMES if "\x00" not in v) + (
+# Values an option may get: extreme numbers, hostile names (a NUL byte too: a shell cannot pass
+# one, a caller of compiler.cli.main can), paths that are folders, missing, or of an unknown
+# format, parameter overrides and signal names.
+ARGUMENT_VALUES = EXTREME_NUMBERS + HOSTILE_NAMES + (
     ".", "", "-", "no/such/dir/out.csv", "out.xyz", "out.csv/", "out.csv", "out.npz", "out.mat",
     "out.parquet", "plot.png", "plot.bad", "x.png.csv", "0,0.5,1", "0:0.1:1", "1:-0.1:0", "0:0:1",
     "1e-9", "0.3", "1,nan", "2,1", "k=nan", "k=inf", "k=1e400", "k=-0", "k=5mm", "k=1 furlong", "R=nan",
     "V=1e308", "resistor.R=0", "capacitor.C=-1", "m=0", "nope=1", "=1", "k", "k==1", "x", "v",
-    "v[1]", "v[3]", "time", "capacitor.v", "1", "2", "-1", "100000000")
+    "v[1]", "v[3]", "time", "capacitor.v", "1", "2", "-1", "100000000", "1000000000", "x" * 300 + ".csv",
+    "d/" + "y" * 256 + "/p.png")
 
 SIMULATE_OPTIONS = ("--start", "--stop", "--rtol", "--atol", "--points", "--saveat", "-p", "--vars",
-                    "--output", "--plot", "--max-output-values")
+                    "--output", "--plot", "--max-output-values", "--max-elements")
 
 
 def base_arguments(command: str, path: str, seed, options) -> list[str]:
