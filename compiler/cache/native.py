@@ -13,6 +13,7 @@ library, and no process is left behind.
 from __future__ import annotations
 
 import atexit
+import re
 import shutil
 import subprocess
 import sys
@@ -20,11 +21,13 @@ import tempfile
 import time
 from pathlib import Path
 
+import compiler
 from compiler.cache import keys
 from compiler.cache.models import models_folder, read_entry
 from compiler.cache.store import read_sealed, write_sealed
 
 LINK_SUFFIX = ".link"
+_KEY = re.compile(r"[0-9a-f]{16,64}")
 
 
 def _link_path(folder: Path, entry_key: str, compiler: str) -> Path:
@@ -40,9 +43,10 @@ def cached_library(entry_key: str, compiler: str) -> Path | None:
     if folder is None:
         return None
     payload = read_sealed(_link_path(folder, entry_key, compiler))
-    if payload is None:
+    key = payload.decode("ascii", "replace").strip() if payload is not None else ""
+    if not _KEY.fullmatch(key):               # a key names a file: hexadecimal digits only
         return None
-    return c_cache.valid_entry(c_cache.cache_dir(), payload.decode("ascii", "replace").strip())
+    return c_cache.valid_entry(c_cache.cache_dir(), key)
 
 
 class BackgroundBuild:
@@ -50,7 +54,6 @@ class BackgroundBuild:
 
     def __init__(self, entry_key: str):
         self.began = time.perf_counter()
-        import compiler
         # the builder imports the same compiler package as this process, whatever its folder
         home = str(Path(compiler.__file__).resolve().parent.parent)
         code = (f"import sys; sys.path.insert(0, {home!r}); from compiler.cache.native import build; "
