@@ -19,7 +19,7 @@ from compiler.errors import DyadError, Note, Span, suggest_name
 from compiler.model.expressions import CONDITION_TYPES, NOT_FOUND, EvalScope, Lexical, MissingValue, Mode, evaluate, \
     is_array, shape_of, structural_bool, structural_int, iteration_values, _num
 from compiler.model.flat import der_name
-from compiler.model import replaceable
+from compiler.model import replaceable, structs
 from compiler.model.library import PRIMITIVE_TYPES, Library, Resolved
 from compiler.model.size_limits import check_elements, check_shape
 from compiler.syntax import ast
@@ -580,7 +580,8 @@ class Model:
         key = resolved.qualified_name
         if key in self._visual:
             return self._visual[key]
-        result = isinstance(resolved.definition, ast.ComponentDef) and key not in seen
+        result = isinstance(resolved.definition, ast.ComponentDef) and key not in seen \
+            and resolved.definition.prefix != "struct"      # a struct's fields are parameters
         if result:
             template = self.template(resolved)
             result = not template.relations
@@ -632,8 +633,14 @@ def _instantiate(model: Model, resolved: Resolved, path: str, parent: Instance |
         return by_name.get(element.name, []) + own
 
     # Parameters first (lazily evaluated), so that sizes and conditions can use any of them.
+    struct_parameters: dict[str, structs.StructType] = {}
     for element in template.elements:
         if isinstance(element.decl, ast.ParameterDecl):
+            found = structs.struct_type(model.library, element.decl.type, element.lexical.package,
+                                        element.lexical.file)
+            if found is not None:       # a record of parameters: built as a nested instance below
+                struct_parameters[element.name] = found
+                continue
             node.parameters[element.name] = ParameterInstance(node, element, entries_for(element))
     for element in template.elements:
         decl = element.decl
@@ -654,6 +661,8 @@ def _instantiate(model: Model, resolved: Resolved, path: str, parent: Instance |
             _add_component(node, element, entries_for(element))
         elif isinstance(decl, ast.TypedDecl) and decl.kind is None:
             _add_replaceable(node, element, entries_for(element))
+        elif isinstance(decl, ast.ParameterDecl) and decl.name in struct_parameters:
+            _add_struct_parameter(node, element, entries_for(element), struct_parameters[decl.name])
     node.relations = [(rel, node.scope(lex)) for rel, lex in template.relations]
     return node
 
@@ -746,6 +755,41 @@ def _add_replaceable(node: Instance, element: ElementTemplate, entries: list[Bou
                         f"extend `{constraint.qualified_name}`, the type `{decl.name}` is declared "
                         f"with", call.span, notes=[Note("declared here", decl.span)])
     _add_component(node, ElementTemplate(component, call_lex, element.owner), entries)
+
+
+def _add_struct_parameter(node: Instance, element: ElementTemplate, entries: list[BoundMod],
+                          found: "structs.StructType") -> None:
+    """A parameter of a struct type: a nested instance whose fields are parameters, with the
+    precedence of compiler/model/structs.py."""
+    decl: ast.ParameterDecl = element.decl
+    model = node.model
+    lex = element.lexical
+
+    def alias_scope(owner: Resolved | None, use_site: EvalScope) -> EvalScope:
+        return use_site if owner is None else node.scope(Lexical(model.library, owner.package,
+                                                                 owner.file))
+
+    mods = nested_mods(entries)
+    valued = [e for e in entries if e.mod.value is not None]
+    given = (valued[0].mod.value, valued[0].scope) if valued else \
+        (decl.default, node.scope(lex)) if decl.default is not None else None
+    if given is not None:
+        call, scope = structs.constructor_type(given[0], decl.name), given[1]
+        chosen = structs.struct_type(model.library, ast.TypeSpec(call.function, span=call.span),
+                                     scope.lexical.package, scope.lexical.file)
+        if chosen is None or chosen.resolved.qualified_name != found.resolved.qualified_name:
+            raise DyadError(f"`{call.function}` is not a `{found.resolved.qualified_name}`, the "
+                            f"struct `{decl.name}` is declared with", call.span,
+                            notes=[Note("declared here", decl.span)])
+        mods += [BoundMod(normalize(m), scope) for m in replaceable.call_modifications(call)]
+        mods += [BoundMod(normalize(m), alias_scope(owner, scope)) for m, owner in chosen.modifications]
+    mods += [BoundMod(normalize(m), alias_scope(owner, node.scope(lex)))
+             for m, owner in found.modifications]
+    struct = found.resolved
+    as_component = Resolved(struct.qualified_name, structs.as_component(struct.definition),
+                            struct.package, struct.file)
+    node.children[decl.name] = _instantiate(model, as_component, join_path(node.path, decl.name),
+                                            node, mods, decl.span)
 
 
 def _extends(library: Library, resolved: Resolved, base: str, depth: int = 0) -> bool:
