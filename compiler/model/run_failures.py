@@ -1,14 +1,17 @@
 """Why a run failed, in words and at an equation (issue 19, item 10): IDAS reports only a flag
 (IDA_FIRST_RES_FAIL, IDA_TOO_MUCH_WORK, ...) and a time. Most such failures of a model that
-compiled come from an operation leaving its domain: a divisor reaching zero, the square root or
-logarithm of a value reaching or crossing zero, asin/acos beyond +-1. This module looks for one.
+compiled come from an operation leaving its domain: a divisor, or the argument of a square root
+or logarithm, reaching or crossing zero; asin/acos beyond +-1; the factor of a derivative (a
+mass) or the derivative of an algebraic equation with respect to its unknown (z^2 = 1 - time)
+reaching zero; else a variable blowing up in finite time (der(x) = x^2). This module looks for one.
 
-Where the run was: the output times it reached (the failure's partial result) and, from the last
-two of them, a straight-line extrapolation to the failure time; a run that failed at its first
-step is looked at in its start point (start values, through the compiled outputs function).
-Each domain-restricted subexpression of the flat equations is evaluated there, and the one that
-is out of its domain, or closest to the edge of it relative to its size along the run, names the
-equation. Nothing is found when no such operation is near its edge: the solver's words stand.
+Where the run was: the model is run again from the start to just before the failure time, with
+output times crowding towards it (at most two such runs; IDAS fills the failure's partial result
+only at the end of a segment, so that may hold nothing near the failure); a run that failed at
+its start is looked at in its consistent initial point. Each candidate subexpression of the flat
+equations (outside `ifelse` branches, which guard theirs) is evaluated there; the one out of its
+domain first, else the one whose trend reaches the edge soonest, names the equation. When none
+is near its edge, the solver's words stand.
 """
 from __future__ import annotations
 
@@ -22,10 +25,10 @@ import sympy
 from compiler.errors import Note, SimulationError, Span
 from compiler.model.flat import TIME
 
-# A divisor, or the argument of sqrt/log, within this fraction of its largest size along the run
-# (and of 1e-3 in absolute terms) counts as having reached zero.
+# A value that must stay away from 0 (a divisor, a sqrt/log argument, a factor) counts as
+# reaching it when it shrank to NEAR_SIZE of its largest size along the run and a straight line
+# through its last two points reaches 0 within NEAR_EDGE of the time run so far.
 NEAR_EDGE = 1e-2
-# ... and one that shrank to this fraction of its size, when its trend reaches 0 that soon.
 NEAR_SIZE = 0.1
 # A variable this many times its median size along the run, still growing, is blowing up.
 BLOW_UP = 1e3
@@ -35,7 +38,7 @@ MAX_CANDIDATES = 5000
 
 @dataclass(frozen=True)
 class _Candidate:
-    kind: str                   # "divisor" | "sqrt" | "log" | "asin"
+    kind: str                   # "divisor" | "sqrt" | "log" | "asin" | "coefficient" | "jacobian"
     operand: sympy.Expr         # the value that must stay in the domain
     shown: sympy.Expr           # the subexpression, for the message
     span: Span | None
@@ -44,7 +47,8 @@ class _Candidate:
 
 def diagnose(error: SimulationError, compilation, parameter_values: Mapping[str, float],
              start: float) -> SimulationError:
-    """`error` with its cause in words and its location, when a domain edge explains it."""
+    """`error` with its cause in words and its location, when a domain edge or a blow-up explains
+    it; else `error` itself."""
     points = _points(error, compilation, parameter_values, start)
     if points is None:
         return error
