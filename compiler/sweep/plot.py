@@ -39,8 +39,8 @@ def summary_figure(result, signals: Sequence[str], metrics: Sequence[str]):
         for k, (metric, parameter) in enumerate(pairs):
             _scatter(figure.add_subplot(grid[row, k]), result, metric, parameter)
     failed = len(result.failed)
-    figure.suptitle(f"{result.model_name.split('.')[-1]}: {len(result.outcomes) - failed} samples"
-                    + (f" ({failed} failed)" if failed else ""), fontsize="medium")
+    figure.suptitle(f"{result.model_name.split('.')[-1]}: {len(result.outcomes)} samples"
+                    + (f", {failed} failed (not in the fan charts)" if failed else ""), fontsize="medium")
     return figure
 
 
