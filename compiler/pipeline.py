@@ -85,7 +85,8 @@ def compile_or_load(spec: str, lib_dirs: Sequence[str] = (), *,
                     cache: bool = True) -> Compilation | CachedCompilation:
     """The compiled model of `spec`: from the compilation cache when every source it was compiled
     from is unchanged (a CachedCompilation: model only), else compiled (a Compilation, stored in
-    the cache unless its state set may switch during a run, which needs the symbolic stages).
+    the cache unless its state set may switch during a run to a state set that was not derived
+    at compile time: that run needs the symbolic stages).
     `cache=False` or DYADC_CACHE_DIR=off: compile, read and write nothing."""
     if not cache:
         return compile_spec(spec, lib_dirs)
@@ -102,8 +103,8 @@ def compile_or_load(spec: str, lib_dirs: Sequence[str] = (), *,
     started = time.time_ns()
     library = RecordingLibrary(lib_dirs)
     compilation = compile_spec(spec, lib_dirs, library=library)
-    if compilation.dynamic:
-        return compilation
+    if compilation.dynamic and not getattr(compilation.model, "variants", None):
+        return compilation          # its run derives state sets from the symbolic stages
     began = time.perf_counter()
     try:
         compilation.cache_key = models.store(spec, lib_dirs, library.inputs(), compilation,

@@ -78,8 +78,8 @@ class BackgroundBuild:
 def use_c_code(compilation, cache: bool = True) -> BackgroundBuild | None:
     """Put `compilation` on C code: the cached library at once, else (from the cache) a build in
     the background while this run uses the virtual machine. Without the cache (`cache=False`) the
-    library is built now in a temporary folder; for a model the cache does not hold (one whose
-    state set may switch) it is built now into the C cache."""
+    library is built now in a temporary folder; for a model the cache does not hold, or one with
+    several state sets (each needs its library), it is built now into the C cache."""
     from compiler.lower import ccodegen
     compiler = ccodegen.find_compiler()
     key = getattr(compilation, "cache_key", None)
@@ -88,8 +88,8 @@ def use_c_code(compilation, cache: bool = True) -> BackgroundBuild | None:
         atexit.register(shutil.rmtree, scratch, True)
         compilation.model = ccodegen.compile_c(compilation.model, scratch)
         return None
-    if key is None or compiler is None or models_folder() is None:
-        compilation.model = ccodegen.use_c_code(compilation.model)
+    if key is None or compiler is None or models_folder() is None or getattr(compilation.model, "variants", None):
+        compilation.model = ccodegen.use_c_code(compilation.model)      # (every state set in C)
         return None
     library = cached_library(key, compiler)
     if library is not None:
