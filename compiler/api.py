@@ -44,7 +44,7 @@ def simulate_compiled(compilation: Compilation | CachedCompilation, stop: float,
     if not hasattr(compilation, "flat"):
         return _simulate_cached(compilation, options, stop, arguments)
     switcher = None
-    if compilation.dynamic:
+    if compilation.dynamic and not compilation.model.variants:     # else: the model's own variants
         from compiler.lower.state_set_variants import Switcher
         switcher = Switcher(compilation.flat, compilation.analysis, compilation.variant,
                             compilation.model)

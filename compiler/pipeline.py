@@ -52,6 +52,7 @@ def flatten_spec(spec: str, lib_dirs: Sequence[str] = (), *,
 
 
 def compile_flat(flat: FlatSystem, timings: dict[str, float] | None = None) -> Compilation:
+    from compiler.lower.state_set_enumeration import with_variants
     from compiler.lower.state_set_variants import build_variant, monitored_levels
     from compiler.lower.to_casadi import lower
     from compiler.model.model_check import require_standalone
@@ -69,6 +70,7 @@ def compile_flat(flat: FlatSystem, timings: dict[str, float] | None = None) -> C
     variant = None
     if monitored_levels(flat, analysis, report):
         variant = build_variant(flat, analysis, None, reduced=reduced, report=report)
+        variant = with_variants(flat, analysis, variant)      # every state set, built once now
         model = variant.model
     else:
         model = lower(reduced)

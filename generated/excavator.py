@@ -892,7 +892,7 @@ ALGEBRAICS = [
 
 _MODEL_JSON = (
     '{"algebraic_names":["der(der(boom_joint.phi))","der(der(stick.body.phi))","der(der(bucket.body.p'
-    'hi))"],"event_labels":[],"format_version":2,"functions":{"dae":"jhpnnagiieahaaaadaaaaaaaaaaaaaaa'
+    'hi))"],"event_labels":[],"format_version":3,"functions":{"dae":"jhpnnagiieahaaaadaaaaaaaaaaaaaaa'
     'aaaakaaaaaaadfifgefhogdgehjgpgogcaaaaaaadaaaaaaaegbgfgaaaaaaaabajaaaaaaaeaaaaaaaaaaaaaaababababa'
     'caaaaaaaaaaaaaaababaeaaaaaaaaaaaaaaaeghbaaaaaaaaaaaaaadbaaaaaaaaaaaaaabaaaaaaaaaaaaaaaaaaaaaaaaa'
     'aaaaaadbaaaaaaaaaaaaaaaaaaaaaaaaaaaaaabaaaaaaaaaaaaaaacaaaaaaaaaaaaaaadaaaaaaaaaaaaaaaeaaaaaaaaa'
@@ -5749,18 +5749,23 @@ _MODEL_JSON = (
 )
 
 _NATIVE_LIBRARY = None   # compiled DAE beside this file (dyadc --codegen c), or None
+# the other state sets' compiled DAEs, by their dummy derivatives (sorted, comma-separated)
+_VARIANT_LIBRARIES = {}
 _model = None
 
 
 def model():
-    """The CompiledModel (deserialized once)."""
+    """The CompiledModel with its state-set variants (deserialized once)."""
     global _model
     if _model is None:
         _model = _runtime.CompiledModel.from_dict(_json.loads(_MODEL_JSON))
         if _NATIVE_LIBRARY is not None:
             import os as _os
-            _model = _model.with_native_library(
-                _os.path.join(_os.path.dirname(_os.path.abspath(__file__)), _NATIVE_LIBRARY))
+            here = _os.path.dirname(_os.path.abspath(__file__))
+            native = {key: _os.path.join(here, name) for key, name in _VARIANT_LIBRARIES.items()}
+            _model = _model.with_native_library(_os.path.join(here, _NATIVE_LIBRARY)).replace(variants={
+                dummies: variant.with_native_library(native.get(",".join(sorted(dummies))))
+                for dummies, variant in _model.variants.items()})
     return _model
 
 

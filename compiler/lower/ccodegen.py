@@ -151,7 +151,8 @@ def compile_c(model: CompiledModel, directory: Path | None = None) -> CompiledMo
             native = _load(model, library)
     except (RuntimeError, OSError, subprocess.SubprocessError, ValueError) as err:
         return _fallback(model, str(err))
-    return native.replace(metadata={**model.metadata, "codegen": "c"})
+    return native.replace(metadata={**model.metadata, "codegen": "c"},
+                          variants={k: compile_c(v, directory) for k, v in model.variants.items()})
 
 
 def _load(model: CompiledModel, library: Path) -> CompiledModel:

@@ -25,6 +25,7 @@ from pathlib import Path
 
 from compiler.errors import DyadError
 from compiler.runtime import CompiledModel
+from compiler.runtime.variants import variant_label
 
 STANDALONE_RUNTIME = "dyad_runtime"      # the package name of the copy beside a standalone module
 _RUNTIME_SOURCE = Path(__file__).resolve().parent.parent / "runtime"
@@ -52,18 +53,23 @@ _MODEL_JSON = (
 )
 
 _NATIVE_LIBRARY = {native!r}   # compiled DAE beside this file (dyadc --codegen c), or None
+# the other state sets' compiled DAEs, by their dummy derivatives (sorted, comma-separated)
+_VARIANT_LIBRARIES = {variant_libraries}
 _model = None
 
 
 def model():
-    """The CompiledModel (deserialized once)."""
+    """The CompiledModel with its state-set variants (deserialized once)."""
     global _model
     if _model is None:
         _model = _runtime.CompiledModel.from_dict(_json.loads(_MODEL_JSON))
         if _NATIVE_LIBRARY is not None:
             import os as _os
-            _model = _model.with_native_library(
-                _os.path.join(_os.path.dirname(_os.path.abspath(__file__)), _NATIVE_LIBRARY))
+            here = _os.path.dirname(_os.path.abspath(__file__))
+            native = {{key: _os.path.join(here, name) for key, name in _VARIANT_LIBRARIES.items()}}
+            _model = _model.with_native_library(_os.path.join(here, _NATIVE_LIBRARY)).replace(variants={{
+                dummies: variant.with_native_library(native.get(",".join(sorted(dummies))))
+                for dummies, variant in _model.variants.items()}})
     return _model
 
 
@@ -104,7 +110,8 @@ def _literal_lines(text: str, indent: str = "    ") -> str:
 
 
 def module_source(model: CompiledModel, module_name: str, native: str | None = None,
-                  standalone: bool = False) -> str:
+                  standalone: bool = False, variant_libraries: dict[str, str] | None = None) -> str:
+    """`variant_libraries`: the C library file of each state-set variant, by variant_label."""
     _check_module_name(module_name)
     payload = json.dumps(model.to_dict(), sort_keys=True, separators=(",", ":"), allow_nan=True)
     return _TEMPLATE.format(
@@ -113,7 +120,7 @@ def module_source(model: CompiledModel, module_name: str, native: str | None = N
         parameters=_python_dict(dict(zip(model.parameter_names, model.parameter_defaults))),
         variables=_python_list(model.output_names), states=_python_list(model.state_names),
         algebraics=_python_list(model.algebraic_names), model_json=_literal_lines(payload),
-        native=native)
+        native=native, variant_libraries=_python_strings(variant_libraries or {}))
 
 
 def _check_module_name(module_name: str) -> None:
@@ -136,6 +143,12 @@ def _python_dict(values: dict[str, float]) -> str:
     return "{\n" + "".join(f"    {k!r}: {_float(v)},\n" for k, v in values.items()) + "}"
 
 
+def _python_strings(values: dict[str, str]) -> str:
+    if not values:
+        return "{}"
+    return "{\n" + "".join(f"    {k!r}: {v!r},\n" for k, v in sorted(values.items())) + "}"
+
+
 def _float(value: float) -> str:
     text = repr(float(value))
     return {"nan": "float('nan')", "inf": "float('inf')", "-inf": "float('-inf')"}.get(text, text)
@@ -150,14 +163,20 @@ def write_module(model: CompiledModel, module_name: str, out_dir: str | os.PathL
     out.mkdir(parents=True, exist_ok=True)
     if standalone:
         copy_runtime(out / STANDALONE_RUNTIME)
-    native = None
+    native, variant_libraries = None, {}
     if model.native_library is not None:
-        # The library travels with the module; its name is fixed so the module text is stable.
+        # The libraries travel with the module; their names are fixed so the module text is stable.
         native = f"{module_name}_dae.so"
         _write_bytes_if_changed(out / native, Path(model.native_library).read_bytes())
+        labelled = sorted((variant_label(key), variant) for key, variant in model.variants.items())
+        for number, (label, variant) in enumerate(labelled, start=1):
+            if variant.native_library is not None:
+                variant_libraries[label] = f"{module_name}_dae_{number}.so"
+                _write_bytes_if_changed(out / variant_libraries[label],
+                                        Path(variant.native_library).read_bytes())
     target = out / f"{module_name}.py"
-    _write_bytes_if_changed(target, module_source(model, module_name, native, standalone)
-                            .encode("utf-8"))
+    _write_bytes_if_changed(target, module_source(model, module_name, native, standalone,
+                                                  variant_libraries).encode("utf-8"))
     return target
 
 

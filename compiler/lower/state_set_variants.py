@@ -18,7 +18,9 @@ import sympy
 
 from compiler import runtime
 from compiler.model.flat import FlatSystem
+from compiler.lower.selection_layout import selection_assignments, selection_levels, selection_metadata
 from compiler.lower.to_casadi import lower
+from compiler.runtime.variants import DUMMIES, SELECTION
 from compiler.structure.dummy_derivatives import base_variable
 from compiler.structure.differentiate import partial
 from compiler.structure.reduce import Analysis, StructureReport, reduce, select_states
@@ -110,14 +112,20 @@ def build_variant(flat: FlatSystem, analysis: Analysis, point: dict[str, float] 
                 pivots.append(Assignment(f"__pivot{level}[{i},{j}]",
                                          partial(system.equations[e], system.symbols[v])))
         layouts.append((rows, candidates, chosen, start))
-    monitored = dataclasses.replace(reduced, observables=list(reduced.observables) + pivots,
-                                    output_names=public + internal + [a.target for a in pivots])
+    # every level's Jacobian over all its possible candidates: the runtime makes the choice again
+    priority = _priority_function(analysis)
+    levels = selection_levels(system, priority)
+    selecting = selection_assignments(system, levels)
+    monitored = dataclasses.replace(reduced, observables=list(reduced.observables) + pivots + selecting,
+                                    output_names=public + internal + [a.target for a in pivots + selecting])
     model = lower(monitored)
     offset = len(public) + len(internal)
-    priority = _priority_function(analysis)
+    dummies = sorted(system.names[v] for _, _, chosen in report.levels for v in chosen)
     model = model.replace(state_sets=[_state_set(rows, cands, chosen, offset + start, system.names,
                                                  priority)
-                                      for rows, cands, chosen, start in layouts])
+                                      for rows, cands, chosen, start in layouts],
+                          metadata={**model.metadata, DUMMIES: dummies,
+                                    SELECTION: selection_metadata(system, levels, public)})
     return Variant(tuple(monitored.states), monitored, model, report, public)
 
 

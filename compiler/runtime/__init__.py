@@ -6,9 +6,10 @@ Public API (docs/runtime.md):
   SimulationOptions          span, output grid, tolerances, parameter overrides
   simulate(model, ...)       -> Result (time, signals by name, events, state-set switches, writers, plot)
   StateSetSwitcher           what a caller provides to switch state sets during a run
+  VariantSwitcher            the one that switches among the state sets a model carries
   SimulationFailed, InitializationFailed, SimulationInterrupted, ModelInputError
 """
-from .driver import StateSetSwitcher, simulate
+from .driver import StateSetSwitcher
 from .errors import (InitializationFailed, ModelInputError, SimulationFailed, SimulationInterrupted,
                      did_you_mean)
 from .initialization import consistent_initialization
@@ -17,9 +18,10 @@ from .options import SimulationOptions
 from .outputs import evaluate_outputs, polish_algebraics
 from .result import Result
 from .state_sets import SWITCH_RATIO, pivoted_columns, state_selection_quality
+from .variants import VariantSwitcher, simulate
 
 __all__ = ["CompiledModel", "FORMAT_VERSION", "InitializationFailed", "ModelInputError", "Result",
            "SWITCH_RATIO", "SimulationFailed", "SimulationInterrupted", "SimulationOptions",
-           "StateSetSwitcher", "consistent_initialization", "did_you_mean", "evaluate_outputs",
+           "StateSetSwitcher", "VariantSwitcher", "consistent_initialization", "did_you_mean", "evaluate_outputs",
            "pivoted_columns", "polish_algebraics", "simulate",
            "state_selection_quality"]

@@ -15,8 +15,8 @@ import numpy as np
 
 from .errors import ModelInputError, did_you_mean
 
-FORMAT_VERSION = 2
-_READABLE_FORMATS = (1, 2)
+FORMAT_VERSION = 3                  # 3: the state-set variants (`variants`)
+_READABLE_FORMATS = (1, 2, 3)
 
 
 class CompiledModel:
@@ -31,6 +31,8 @@ class CompiledModel:
                                   non-smooth: offset + k * period for k = 0, 1, ... (period 0: once)
     `state_sets` lists the levels of the dummy-derivative choice that can degrade along a
     trajectory (see state_sets.py); `metadata["bounds"]` the declared min/max of outputs.
+    `variants` maps each other state set (its dummy derivatives, a frozenset of names) to its
+    model, every one derived at compile time (variants.py switches among them).
     """
 
     FUNCTION_NAMES = ("dae", "init", "outputs", "params")
@@ -48,7 +50,8 @@ class CompiledModel:
                  metadata: dict | None = None,
                  events: ca.Function | None = None, event_labels: Sequence[str] | None = None,
                  time_events: ca.Function | None = None,
-                 time_event_labels: Sequence[str] | None = None):
+                 time_event_labels: Sequence[str] | None = None,
+                 variants: Mapping[frozenset, "CompiledModel"] | None = None):
         self.name = name
         self.state_names = list(state_names)
         self.algebraic_names = list(algebraic_names)
@@ -71,6 +74,7 @@ class CompiledModel:
         self.nominals = {k: float(v) for k, v in (nominals or {}).items()}
         self.state_sets = list(state_sets or [])
         self.metadata = dict(metadata or {})
+        self.variants = dict(variants or {})
         self.native_library: str | None = None
         self.compile_time: float | None = None        # set by the compiler; not serialized
         self._output_index = {n: i for i, n in enumerate(self.output_names)}
@@ -139,6 +143,9 @@ class CompiledModel:
             "time_event_labels": self.time_event_labels,
             "metadata": self.metadata,
             "functions": functions,
+            **({"variants": [{"dummies": sorted(key), "model": model.to_dict()}
+                             for key, model in sorted(self.variants.items(), key=lambda kv: sorted(kv[0]))]}
+               if self.variants else {}),
         }
 
     @classmethod
@@ -158,7 +165,9 @@ class CompiledModel:
                    nominals=data.get("nominals"), state_sets=data.get("state_sets"),
                    event_labels=data.get("event_labels"),
                    time_event_labels=data.get("time_event_labels"),
-                   metadata=data.get("metadata"), **functions)
+                   metadata=data.get("metadata"),
+                   variants={frozenset(v["dummies"]): cls.from_dict(v["model"])
+                             for v in data.get("variants", ())}, **functions)
 
     # -- parameters --------------------------------------------------------------------------------
     @property

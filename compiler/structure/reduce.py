@@ -76,8 +76,10 @@ def _occurring_derivatives(derivatives: dict[str, str], residuals: list[sympy.Ex
 
 
 def reduce(flat: FlatSystem, point: dict[str, float] | None = None,
-           report: StructureReport | None = None, analysis: Analysis | None = None) -> ReducedSystem:
-    """`point` (values of unknowns and parameters) enables numeric pivoting of dummy derivatives."""
+           report: StructureReport | None = None, analysis: Analysis | None = None,
+           pivots=None) -> ReducedSystem:
+    """`point` (values of unknowns and parameters) enables numeric pivoting of dummy derivatives;
+    `pivots(rows, cols)`, given, replaces the Jacobian at `point` (to force one dummy choice)."""
     report = report if report is not None else StructureReport()
     if analysis is None:
         clock = _time.perf_counter()
@@ -94,7 +96,7 @@ def reduce(flat: FlatSystem, point: dict[str, float] | None = None,
     report.structural_index = analysis.index_report.structural_index
 
     clock = _time.perf_counter()
-    selection = select_states(system, analysis.priorities, flat, point)
+    selection = select_states(system, analysis.priorities, flat, point, pivots)
     report.timings["dummy derivatives"] = _time.perf_counter() - clock
     report.pivot_conditions = selection.pivot_conditions
     report.levels = selection.levels
@@ -115,13 +117,14 @@ def reduce(flat: FlatSystem, point: dict[str, float] | None = None,
 
 
 def select_states(system: IndexedSystem, priorities: dict[str, int], flat: FlatSystem,
-                  point: dict[str, float] | None) -> DummySelection:
+                  point: dict[str, float] | None, pivots=None) -> DummySelection:
     diff_to_var = system.diff_to_var()
 
     def priority(v: int) -> int:
         return priorities.get(system.names[base_variable(system, v, diff_to_var)], 0)
 
-    jacobian = _numeric_jacobian(system, flat, point) if point is not None else None
+    jacobian = pivots if pivots is not None else \
+        _numeric_jacobian(system, flat, point) if point is not None else None
     selection = select_dummy_derivatives(system, priority, jacobian)
     if selection.deficient:
         rows = [e for level in selection.levels for e in level[0]]

@@ -1,0 +1,166 @@
+"""Every state set a run of a model can switch to, derived at compile time and carried by the
+compiled model (`CompiledModel.variants`), so that generated modules and C code switch as the
+in-process run does, with the runtime only (compiler/runtime/variants.py).
+
+The runtime's choice at a switch point (variants.dummy_choice, the compiler's dummy-derivative
+selection made again) takes, level by level, a set of columns whose block is regular there. Which
+sets a point can give is not known in advance, so every set whose block is structurally regular is
+a possible choice; their product over the levels (each level's candidates follow from the choice
+one level up) is the list of variants. Each one is built once (reduce with the choice forced, then
+build_variant); beyond VARIANT_LIMIT the model carries none, with a warning, and the in-process run
+builds the state sets it reaches lazily (state_set_variants.Switcher), as before.
+"""
+from __future__ import annotations
+
+import dataclasses
+import itertools
+import warnings
+from typing import Iterator
+
+import numpy as np
+import sympy
+
+from compiler.errors import DyadError
+from compiler.lower.selection_layout import SelectionLevel, selection_levels
+from compiler.lower.state_set_variants import Variant, _priority_function, build_variant
+from compiler.model.flat import FlatSystem
+from compiler.runtime import pivoted_columns
+from compiler.structure.differentiate import partial
+from compiler.structure.indexed import IndexedSystem
+from compiler.structure.reduce import Analysis, StructureReport, reduce
+
+VARIANT_LIMIT = 64
+_COUNT_LIMIT = 100_000            # how far an over-the-limit model's variants are counted for the message
+
+
+class VariantLimitWarning(UserWarning):
+    """A model has more possible state sets than are compiled ahead of time."""
+
+
+def possible_choices(flat: FlatSystem, system: IndexedSystem,
+                     levels: list[SelectionLevel]) -> Iterator[frozenset[str]]:
+    """Every dummy-derivative set (names) the runtime's choice can make: on each level, the columns
+    that pivoting takes from the leading priority classes whose Jacobian is constant (computed
+    here, at the parameters' defaults), completed by every set of later columns that makes the
+    level's block structurally regular."""
+    constant = _constant_entries(flat, system)
+
+    def walk(k: int, candidates: set[int], dummies: tuple[int, ...]):
+        if k == len(levels):
+            yield frozenset(system.names[v] for v in dummies)
+            return
+        level = levels[k]
+        order = [v for v in level.order if v in candidates]
+        fixed, rest = _constant_prefix_choice(system, level, order, constant)
+        for subset in itertools.combinations(rest, len(level.rows) - len(fixed)):
+            if _structurally_regular(system, level.rows, fixed + list(subset)):
+                chosen = fixed + list(subset)
+                following = {level.next[v] for v in chosen if v in level.next}
+                yield from walk(k + 1, following, dummies + tuple(chosen))
+    if levels:
+        yield from walk(0, set(levels[0].order), ())
+
+
+def _constant_entries(flat: FlatSystem, system: IndexedSystem):
+    """(equation, unknown) -> the value of d equation / d unknown where it does not depend on the
+    unknowns (at the parameters' defaults), else None; memoized."""
+    values = {sympy.Symbol(p.name): p.value for p in flat.parameters if p.value is not None}
+    memo: dict[tuple[int, int], float | None] = {}
+
+    def entry(e: int, v: int) -> float | None:
+        if (e, v) not in memo:
+            derivative = partial(system.equations[e], system.symbols[v]).xreplace(values)
+            memo[e, v] = float(derivative) if not derivative.free_symbols else None
+        return memo[e, v]
+    return entry
+
+
+def _constant_prefix_choice(system: IndexedSystem, level: SelectionLevel, order: list[int], constant):
+    """The columns pivoting takes from the leading priority classes of `order` whose entries are all
+    constant (the same at every point), and the columns after those classes."""
+    classes: list[list[int]] = []
+    for j, v in enumerate(order):
+        if j == 0 or level.priority[v] != level.priority[order[j - 1]]:
+            classes.append([])
+        classes[-1].append(j)
+    matrix = np.zeros((len(level.rows), len(order)))
+    prefix: list[list[int]] = []
+    for members in classes:
+        entries = [(i, j, constant(e, order[j]) if order[j] in system.incidence[e] else 0.0)
+                   for j in members for i, e in enumerate(level.rows)]
+        if any(value is None for _, _, value in entries):
+            break
+        for i, j, value in entries:
+            matrix[i, j] = value
+        prefix.append(members)
+    if not prefix:
+        return [], order
+    end = prefix[-1][-1] + 1
+    picked = pivoted_columns(matrix[:, :end], prefix, len(level.rows))
+    return [order[j] for j in sorted(picked)], order[end:]
+
+
+def _structurally_regular(system: IndexedSystem, rows, columns) -> bool:
+    return len(_matching(system, rows, columns)) == len(rows)
+
+
+def _matching(system: IndexedSystem, rows, columns) -> dict[int, int]:
+    """A maximum matching column -> row position (augmenting paths; levels are small)."""
+    column_rows = {v: [i for i, e in enumerate(rows) if v in system.incidence[e]] for v in columns}
+    row_to_column: dict[int, int] = {}
+
+    def augment(v, seen) -> bool:
+        for i in column_rows[v]:
+            if i not in seen:
+                seen.add(i)
+                if i not in row_to_column or augment(row_to_column[i], seen):
+                    row_to_column[i] = v
+                    return True
+        return False
+    for v in columns:
+        augment(v, set())
+    return {v: i for i, v in row_to_column.items()}
+
+
+def _forcing(system: IndexedSystem, dummies: frozenset[str]):
+    """A Jacobian (rows, cols) -> matrix under which the numerical selection picks `dummies`:
+    a unit entry per chosen column on the row it is matched to, zero elsewhere."""
+    def jacobian(rows: list[int], cols: list[int]) -> np.ndarray:
+        chosen = [v for v in cols if system.names[v] in dummies]
+        matrix = np.zeros((len(rows), len(cols)))
+        for v, i in _matching(system, rows, chosen).items():
+            matrix[i, cols.index(v)] = 1.0
+        return matrix
+    return jacobian
+
+
+def with_variants(flat: FlatSystem, analysis: Analysis, root: Variant,
+                  limit: int = VARIANT_LIMIT) -> Variant:
+    """`root` whose model carries every other possible state set (`model.variants`), or `root`
+    unchanged, with a VariantLimitWarning, when there are more than `limit`."""
+    system = analysis.system
+    levels = selection_levels(system, _priority_function(analysis))
+    choices = list(itertools.islice(possible_choices(flat, system, levels), limit + 1))
+    if len(choices) > limit:
+        count = sum(1 for _ in itertools.islice(possible_choices(flat, system, levels), _COUNT_LIMIT + 1))
+        counted = f"more than {_COUNT_LIMIT:,}" if count > _COUNT_LIMIT else f"{count:,}"
+        warnings.warn(f"model {flat.name} has {counted} possible state sets, more than the {limit} "
+                      f"compiled with it: generated code and --codegen c carry its first state set "
+                      f"only; the in-process run still builds the ones it reaches when it reaches "
+                      f"them", VariantLimitWarning, stacklevel=2)
+        return root
+    first = frozenset(root.model.metadata["dummy_derivatives"])
+    variants = {}
+    for dummies in choices:
+        if dummies == first:
+            continue
+        report = StructureReport()
+        try:
+            reduced = reduce(flat, report=report, analysis=analysis, pivots=_forcing(system, dummies))
+        except DyadError:
+            continue                   # regular level by level, yet no causal order: never chosen
+        built = build_variant(flat, analysis, None, reduced=reduced, report=report)
+        got = frozenset(built.model.metadata["dummy_derivatives"])
+        assert got == dummies, f"forced dummy derivatives {sorted(dummies)}, got {sorted(got)}"
+        variants[dummies] = built.model
+    return dataclasses.replace(root, model=root.model.replace(variants=variants))

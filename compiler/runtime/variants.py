@@ -1,0 +1,113 @@
+"""Switching among the state-set variants a compiled model carries (`CompiledModel.variants`).
+
+Every state set a run can reach is derived once, at compile time (compiler/lower/state_set_enumeration.py),
+and travels with the model; where the current set degrades, the run continues in the variant whose
+dummy derivatives the numerical choice selects at that point. The choice is the compiler's own
+dummy-derivative selection (compiler/structure/dummy_derivatives.py) made again here, with the
+runtime only:
+
+Level by level, from the most-differentiated constraints down, pivoting (`pivoted_columns`) over the
+level's Jacobian with respect to its candidate derivatives picks as many columns as the level has
+rows; the candidates of the next level are the undifferentiated versions of the columns picked.
+Each variant outputs the entries of every level's Jacobian over all candidates any choice can offer
+(`selection_output` names them), and its metadata holds the levels' layout (`SELECTION`) and its own
+dummy derivatives (`DUMMIES`). So a generated module, a sweep worker and the in-process run pick the
+same variant at the same point.
+"""
+from __future__ import annotations
+
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from . import driver
+from .errors import SimulationFailed
+from .model import CompiledModel
+from .state_sets import pivoted_columns
+
+SELECTION = "state_selection"        # metadata: {"public": [...], "levels": [...]}, see dummy_choice
+DUMMIES = "dummy_derivatives"        # metadata: this variant's dummy derivatives (sorted names)
+
+
+def selection_output(level: int, row: int, candidate: str) -> str:
+    """The output holding d(row-th constraint of `level`) / d(candidate)."""
+    return f"__select{level}[{row},{candidate}]"
+
+
+def dummy_choice(levels: Sequence[Mapping], values: Mapping[str, float]) -> frozenset[str] | None:
+    """The dummy derivatives the compiler's numerical selection takes at the point `values` (all
+    outputs of a variant there), or None where some level has no regular choice.
+
+    A level is {"rows": n, "order": candidate names in the compiler's order of preference,
+    "priority": {name: state priority}, "next": {name: its candidate on the next level}}; the first
+    level's candidates are all of its `order`. An entry without an output is structurally zero."""
+    candidates = set(levels[0]["order"]) if levels else set()
+    dummies: list[str] = []
+    for k, level in enumerate(levels):
+        rows = int(level["rows"])
+        order = [c for c in level["order"] if c in candidates]
+        matrix = np.zeros((rows, len(order)))
+        for i in range(rows):
+            for j, name in enumerate(order):
+                matrix[i, j] = float(values.get(selection_output(k, i, name), 0.0))
+        classes: list[list[int]] = []
+        for j, name in enumerate(order):      # priority classes are consecutive runs of `order`
+            if j == 0 or level["priority"][name] != level["priority"][order[j - 1]]:
+                classes.append([])
+            classes[-1].append(j)
+        picked = pivoted_columns(matrix, classes, rows)
+        if len(picked) < rows:
+            return None
+        chosen = [order[j] for j in picked]
+        dummies.extend(chosen)
+        candidates = {level["next"][c] for c in chosen if c in level["next"]}
+    return frozenset(dummies)
+
+
+def simulate(model: CompiledModel, stop: float | None = None, *, switcher=None, **settings):
+    """The driver's simulate (driver.simulate: same arguments); a model that carries its state-set
+    variants switches among them unless the caller gives another switcher."""
+    if switcher is None and model.variants:
+        switcher = VariantSwitcher(model)
+    return driver.simulate(model, stop, switcher=switcher, **settings)
+
+
+def variant_models(model: CompiledModel) -> dict[frozenset, CompiledModel]:
+    """Every state set of `model` by its dummy derivatives, `model` itself included."""
+    found = dict(model.variants)
+    found[frozenset(model.metadata.get(DUMMIES, ()))] = model
+    return found
+
+
+class VariantSwitcher:
+    """The runtime's StateSetSwitcher for a model that carries its variants: at the switch point,
+    the variant of the dummy derivatives `dummy_choice` selects. `fallback` (a StateSetSwitcher, say
+    the compiler's lazy one) is asked for a choice that is none of the variants, which can happen
+    only where a parameter value changed a choice the compiler took as constant."""
+
+    def __init__(self, model: CompiledModel, fallback=None):
+        selection = model.metadata.get(SELECTION)
+        if not model.variants or selection is None:
+            raise ValueError(f"model {model.name} carries no state-set variants")
+        self.public_names = list(selection["public"])
+        self.levels = selection["levels"]
+        self.fallback = fallback
+        self._by_dummies = variant_models(model)
+
+    def switch(self, model: CompiledModel, values: Mapping[str, float], t: float) -> CompiledModel:
+        dummies = dummy_choice(self.levels, values)
+        if dummies is None:
+            return model                      # no regular choice here: the driver reports it
+        found = self._by_dummies.get(dummies)
+        if found is not None:
+            return found
+        if self.fallback is not None:
+            return self.fallback.switch(model, values, t)
+        reason = (f"the state set chosen here (dummy derivatives {', '.join(sorted(dummies))}) is none "
+                  f"of the {len(self._by_dummies)} compiled with the model")
+        raise SimulationFailed(f"simulation of {model.name} stopped at t = {t:.10g}: {reason}", t, reason)
+
+
+def variant_label(dummies: frozenset) -> str:
+    """A stable text for a set of dummy derivatives (sorted names, comma-separated)."""
+    return ",".join(sorted(dummies))

@@ -1,0 +1,89 @@
+"""State-set variants derived at compile time and carried by the compiled model
+(compiler/lower/state_set_enumeration.py, compiler/runtime/variants.py)."""
+import dataclasses
+import json
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from compiler import api, runtime
+from compiler.lower.state_set_enumeration import VariantLimitWarning, with_variants
+from compiler.lower.state_set_variants import Switcher, build_variant
+from compiler.runtime.variants import DUMMIES
+
+MODELS = Path(__file__).resolve().parents[1] / "models"
+SPEC = "Hard.CartesianPendulumLarge"
+
+
+@pytest.fixture(scope="module")
+def compilation():
+    return api.compile(SPEC, lib_dirs=(str(MODELS),))
+
+
+def test_the_pendulum_carries_its_six_state_sets(compilation):
+    model = compilation.model
+    assert len(model.variants) == 5                     # and the first one, the model itself
+    keys = set(model.variants) | {frozenset(model.metadata[DUMMIES])}
+    assert len(keys) == 6
+    assert {tuple(v.state_names) for v in model.variants.values()} >= {("x", "v"), ("y", "u"), ("x", "u")}
+    for key, variant in model.variants.items():
+        assert frozenset(variant.metadata[DUMMIES]) == key and not variant.variants
+
+
+def test_the_model_round_trips_through_plain_data_with_its_variants(compilation):
+    model = compilation.model
+    data = json.loads(json.dumps(model.to_dict()))
+    again = runtime.CompiledModel.from_dict(data)
+    assert set(again.variants) == set(model.variants)
+    for key, variant in model.variants.items():
+        assert again.variants[key].state_names == variant.state_names
+        assert again.variants[key].output_names == variant.output_names
+    assert json.loads(json.dumps(again.to_dict())) == data
+    # and it switches as the original does
+    first = runtime.simulate(model, 2.0, rtol=1e-8, atol=1e-8, points=21)
+    second = runtime.simulate(again, 2.0, rtol=1e-8, atol=1e-8, points=21)
+    assert [s["time"] for s in first.switches] == [s["time"] for s in second.switches]
+    assert len(first.switches) >= 3
+    assert np.array_equal(first.values, second.values)
+
+
+def test_a_model_of_the_previous_format_still_reads(compilation):
+    data = compilation.model.variants[next(iter(compilation.model.variants))].to_dict()
+    data["format_version"] = 2
+    data.pop("variants", None)
+    assert runtime.CompiledModel.from_dict(data).variants == {}
+
+
+def test_the_runtime_choice_is_the_compilers_lazy_choice(compilation):
+    """The run with the carried variants and a run whose switcher redoes the compiler's selection
+    with sympy at each switch point (the lazy Switcher) switch at the same times to the same sets."""
+    carried = runtime.simulate(compilation.model, 6.0, rtol=1e-8, atol=1e-8, points=61)
+    alone = compilation.model.replace(variants={})
+    lazy = Switcher(compilation.flat, compilation.analysis,
+                    dataclasses.replace(compilation.variant, model=alone, siblings={}), alone)
+    redone = runtime.simulate(alone, 6.0, rtol=1e-8, atol=1e-8, points=61, switcher=lazy)
+    assert len(carried.switches) >= 8
+    assert [(s["time"], s["to"]) for s in carried.switches] == [(s["time"], s["to"]) for s in redone.switches]
+    assert np.array_equal(carried.values, redone.values)
+
+
+def test_over_the_limit_the_model_carries_one_state_set_and_says_so(compilation):
+    root = build_variant(compilation.flat, compilation.analysis, None,
+                         reduced=compilation.reduced, report=compilation.report)
+    with pytest.warns(VariantLimitWarning) as caught:
+        kept = with_variants(compilation.flat, compilation.analysis, root, limit=3)
+    message = str(caught[0].message)
+    assert "has 6 possible state sets, more than the 3 compiled with it" in message
+    assert "carry its first state set only" in message
+    assert "the in-process run still builds the ones it reaches" in message
+    assert kept.model.variants == {}
+    with pytest.raises(runtime.SimulationFailed, match="carries one state set"):
+        runtime.simulate(kept.model, 2.0, rtol=1e-8, atol=1e-8, points=21)
+    # in-process, the lazy switcher still runs it
+    over = dataclasses.replace(compilation, model=kept.model, variant=kept)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        result = api.simulate_compiled(over, 2.0, rtol=1e-8, atol=1e-8, points=21)
+    assert len(result.switches) >= 3
