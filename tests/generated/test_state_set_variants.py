@@ -1,0 +1,94 @@
+"""A generated module of a model whose state set switches carries every state set (derived at
+compile time) and switches exactly as the in-process run does, on the VM and in C, in a process
+that has only the runtime: the large-amplitude Cartesian pendulum over 20 s at rtol 1e-8."""
+import ast
+import dataclasses
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from compiler import api
+from compiler.lower.ccodegen import compile_c, find_compiler
+from compiler.lower.codegen import write_module
+from tests.generated.fresh_process import run_json
+
+MODELS = Path(__file__).resolve().parents[2] / "tests" / "models"
+SPEC = "Hard.CartesianPendulumLarge"
+SETTINGS = dict(rtol=1e-8, atol=1e-8, points=2001)
+STOP = 20.0
+
+
+def run_module(module_dir: Path, name: str) -> dict:
+    script = (
+        "import json, sys\n"
+        f"import {name} as m\n"
+        f"r = m.simulate({STOP}, **{SETTINGS!r})\n"
+        "out = {'x': list(r['x']), 'y': list(r['y']), 'lambda': list(r['lambda']),\n"
+        "       'switches': [(s['time'], s['to']) for s in r.switches],\n"
+        "       'codegen': m.model().metadata.get('codegen'),\n"
+        "       'native': sorted(str(v.native_library is not None) for v in m.model().variants.values()),\n"
+        "       'loaded': [k for k in ('sympy', 'lark', 'compiler') if k in sys.modules]}\n"
+        "print(json.dumps(out))\n"
+    )
+    return run_json(script, module_dir)
+
+
+@pytest.fixture(scope="module")
+def compilation():
+    return api.compile(SPEC, lib_dirs=(str(MODELS),))
+
+
+@pytest.fixture(scope="module")
+def in_process(compilation):
+    return api.simulate_compiled(compilation, STOP, **SETTINGS)
+
+
+def switches(result) -> list:
+    return [(s["time"], s["to"]) for s in result.switches]
+
+
+def assert_same_run(out: dict, reference) -> None:
+    assert out["loaded"] == []                         # the runtime alone: no sympy, lark, compiler
+    assert [(t, to) for t, to in out["switches"]] == switches(reference)
+    for name in ("x", "y", "lambda"):
+        assert np.array_equal(np.array(out[name]), reference[name]), name
+
+
+def test_the_generated_module_switches_exactly_as_the_in_process_run(tmp_path, compilation, in_process):
+    assert len(compilation.model.variants) == 5
+    assert len(in_process.switches) >= 30               # about 30 switches in 20 s
+    write_module(compilation.model, "pendulum_large", tmp_path, standalone=True)
+    assert_same_run(run_module(tmp_path, "pendulum_large"), in_process)
+
+
+@pytest.mark.skipif(find_compiler() is None, reason="no C compiler")
+def test_c_code_of_every_state_set_switches_exactly_as_the_in_process_c_run(tmp_path, compilation, in_process):
+    native = compile_c(compilation.model, tmp_path / "c-cache")
+    assert native.native_library is not None
+    assert all(v.native_library is not None for v in native.variants.values())
+    in_c = api.simulate_compiled(dataclass_with_model(compilation, native), STOP, **SETTINGS)
+    write_module(native, "pendulum_large_c", tmp_path / "module", standalone=True)
+    assert len(list((tmp_path / "module").glob("pendulum_large_c_dae*.so"))) == 6
+    out = run_module(tmp_path / "module", "pendulum_large_c")
+    assert out["codegen"] == "c" and out["native"] == ["True"] * 5
+    assert_same_run(out, in_c)
+    # C and the VM: the same switches (times to the event tolerance), values to the tolerance
+    assert [to for _, to in switches(in_c)] == [to for _, to in switches(in_process)]
+    assert np.allclose([t for t, _ in switches(in_c)], [t for t, _ in switches(in_process)], rtol=0, atol=1e-6)
+    for name in ("x", "y"):
+        assert np.max(np.abs(in_c[name] - in_process[name])) < 1e-6, name
+
+
+def dataclass_with_model(compilation, model):
+    return dataclasses.replace(compilation, model=model)
+
+
+def test_the_module_text_holds_the_variants_as_plain_data(tmp_path, compilation):
+    path = write_module(compilation.model, "pendulum_data", tmp_path)
+    text = path.read_text()
+    assert "_VARIANT_LIBRARIES = {}" in text            # no C libraries on the VM
+    literal = text.split("_MODEL_JSON = ")[1].split("\n)\n")[0] + "\n)"
+    payload = json.loads(ast.literal_eval(literal))
+    assert payload["format_version"] == 3 and len(payload["variants"]) == 5
