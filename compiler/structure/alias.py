@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 import sympy
 
 from compiler.model.flat import TIME, Equation, FlatSystem, der_name
+from compiler.structure.differentiate import free_symbols
 
 
 @dataclass
@@ -45,12 +46,12 @@ def eliminate_aliases(flat: FlatSystem) -> AliasResult:
     alive = [True] * len(equations)
 
     def is_constant(expr: sympy.Expr) -> bool:
-        return all(s in parameter_symbols for s in expr.free_symbols)
+        return all(s in parameter_symbols for s in free_symbols(expr))
 
     def classify(residual: sympy.Expr):
         """Return (var_symbol, expression) if residual says var = expression with no other unknowns
         than (at most) one aliased variable; else None."""
-        symbols = residual.free_symbols
+        symbols = free_symbols(residual)
         if TIME in symbols:
             return None
         unknowns = [s for s in symbols if s not in parameter_symbols]
@@ -66,8 +67,8 @@ def eliminate_aliases(flat: FlatSystem) -> AliasResult:
                 return None
             coefficients[s] = c
             rest = rest - c * s
-        rest = sympy.expand(rest) if rest.free_symbols & set(unknowns) else rest
-        if rest.free_symbols & set(unknowns) or not is_constant(rest):
+        rest = sympy.expand(rest) if free_symbols(rest) & set(unknowns) else rest
+        if free_symbols(rest) & set(unknowns) or not is_constant(rest):
             return None
         if len(unknowns) == 1:
             s = unknowns[0]
@@ -109,7 +110,8 @@ def eliminate_aliases(flat: FlatSystem) -> AliasResult:
         for i, residual in enumerate(residuals):
             if not alive[i]:
                 continue
-            if residual.free_symbols & mapping.keys() or residual.free_symbols & derivative_mapping.keys():
+            symbols = free_symbols(residual)
+            if symbols & mapping.keys() or symbols & derivative_mapping.keys():
                 residual = _resolve(residual, mapping, derivative_mapping)
                 residuals[i] = residual
             found = classify(residual)
@@ -137,7 +139,7 @@ def eliminate_aliases(flat: FlatSystem) -> AliasResult:
 def _resolve(expr: sympy.Expr, mapping: dict, derivative_mapping: dict) -> sympy.Expr:
     """Substitute eliminated symbols until none is left (chains are short)."""
     for _ in range(1000):
-        symbols = expr.free_symbols
+        symbols = free_symbols(expr)
         hit = {s: mapping[s] for s in symbols if s in mapping}
         hit.update({s: derivative_mapping[s] for s in symbols if s in derivative_mapping})
         if not hit:

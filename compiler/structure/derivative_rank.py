@@ -18,7 +18,7 @@ from fractions import Fraction
 import numpy as np
 import sympy
 
-from compiler.structure.differentiate import partial
+from compiler.structure.differentiate import free_symbols, partial
 
 
 @dataclass
@@ -36,15 +36,17 @@ def remove_derivative_dependencies(equations: list[sympy.Expr], derivative_symbo
     ders = sorted(derivative_symbols, key=lambda s: s.name)
     der_index = {d: j for j, d in enumerate(ders)}
     for i, eq in enumerate(equations):
-        present = [d for d in eq.free_symbols if d in der_index]
+        present = [d for d in free_symbols(eq) if d in der_index]
         if not present:
             continue
-        row = np.zeros(len(ders))
+        row: dict[int, float] = {}                      # sparse: derivative column -> coefficient
         for d in present:
             coefficient = partial(eq, d)
-            if coefficient.free_symbols - parameter_values.keys():
+            if free_symbols(coefficient) - parameter_values.keys():
                 break                                   # depends on unknowns (or nonlinear in d)
-            row[der_index[d]] = float(coefficient.xreplace(parameter_values))
+            value = float(coefficient.xreplace(parameter_values))
+            if value != 0.0:
+                row[der_index[d]] = value
         else:
             rows.append(i)
             coefficient_rows.append(row)
@@ -57,11 +59,19 @@ def remove_derivative_dependencies(equations: list[sympy.Expr], derivative_symbo
     # Rows can only depend on rows that share a derivative with them (transitively): analyse each
     # connected group on its own; most groups are a single row (linear in the model size).
     for group in _groups_sharing_derivatives(coefficient_rows):
+        # dense only over the group's own columns: every other column is zero in all its rows
+        columns = sorted({j for k in group for j in coefficient_rows[k]})
+        position = {j: c for c, j in enumerate(columns)}
+        dense = {}
+        for k in group:
+            dense[k] = np.zeros(len(columns))
+            for j, value in coefficient_rows[k].items():
+                dense[k][position[j]] = value
         basis_rows: list[int] = []                      # positions in `rows` that are independent
         for k in group:
-            row = coefficient_rows[k]
+            row = dense[k]
             if basis_rows:
-                basis = np.array([coefficient_rows[b] for b in basis_rows])
+                basis = np.array([dense[b] for b in basis_rows])
                 weights, *_ = np.linalg.lstsq(basis.T, row, rcond=None)
                 residual = row - basis.T @ weights
                 scale = max(1.0, float(np.max(np.abs(row))))
@@ -75,7 +85,7 @@ def remove_derivative_dependencies(equations: list[sympy.Expr], derivative_symbo
     return result, report
 
 
-def _groups_sharing_derivatives(coefficient_rows: list[np.ndarray]) -> list[list[int]]:
+def _groups_sharing_derivatives(coefficient_rows: list[dict[int, float]]) -> list[list[int]]:
     """Connected components of rows linked by a common nonzero derivative column (union-find)."""
     parent = list(range(len(coefficient_rows)))
 
@@ -87,7 +97,7 @@ def _groups_sharing_derivatives(coefficient_rows: list[np.ndarray]) -> list[list
 
     owner: dict[int, int] = {}
     for k, row in enumerate(coefficient_rows):
-        for j in np.flatnonzero(row):
+        for j in sorted(row):
             if j in owner:
                 parent[find(k)] = find(owner[j])
             else:

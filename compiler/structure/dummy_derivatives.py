@@ -41,7 +41,6 @@ def select_dummy_derivatives(system: IndexedSystem, priority: Callable[[int], in
     diff_to_eq = system.diff_to_eq()
     diff_to_var = system.diff_to_var()
     rows = [e for e in range(system.n_eqs) if diff_to_eq[e] >= 0 and system.eq_to_diff[e] < 0]
-    row_set = set(rows)
     candidates = sorted({v for e in rows for v in system.incidence[e]
                          if system.var_to_diff[v] < 0 and diff_to_var[v] >= 0})
     selection = DummySelection([], [])
@@ -54,9 +53,9 @@ def select_dummy_derivatives(system: IndexedSystem, priority: Callable[[int], in
             selection.deficient = True
         selection.dummies.extend(chosen)
         rows = [diff_to_eq[e] for e in rows if diff_to_eq[diff_to_eq[e]] >= 0]
-        row_set = set(rows)
+        occurring = {v for e in rows for v in system.incidence[e]}
         candidates = sorted(diff_to_var[v] for v in chosen if diff_to_var[diff_to_var[v]] >= 0)
-        candidates = [v for v in candidates if any(v in system.incidence[e] for e in row_set)]
+        candidates = [v for v in candidates if v in occurring]
     dummy_set = set(selection.dummies)
     selection.states = [v for v in range(system.n_vars)
                         if system.var_to_diff[v] >= 0 and system.var_to_diff[v] not in dummy_set]
