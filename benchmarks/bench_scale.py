@@ -1,0 +1,229 @@
+"""Scaling of compile and simulation on the N-link pendulum chain (issue 15 item 5).
+
+    .venv/bin/python benchmarks/bench_scale.py compile 8 16 32 64 128 256   -> JSON lines, per stage
+    .venv/bin/python benchmarks/bench_scale.py linsol 8 16 32 64 128         -> JSON lines, per solver
+    .venv/bin/python benchmarks/bench_scale.py report FILE...                -> docs/scaling.md
+
+`compile` times every structure pass separately (wrapping the pass functions, CPU time of this
+process, so that other work on a shared machine inflates the numbers less than wall time would).
+`linsol` simulates each chain (0.5 s, rtol = atol = 1e-6, 51 points, as benchmarks/suite/
+compile_time.py does) with each linear solver CasADi's IDAS offers, median CPU time of `--repeats`.
+Each mode runs in its own process; `report` turns saved JSON lines into docs/scaling.md.
+"""
+from __future__ import annotations
+
+import functools
+import importlib
+import json
+import os
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+# (module, function, label): the passes of one compile, in pipeline order
+PASSES = [
+    ("compiler.model.model_check", "require_standalone", "checks"),
+    ("compiler.structure.reduce", "eliminate_aliases", "alias"),
+    ("compiler.structure.reduce", "remove_derivative_dependencies", "derivative rank"),
+    ("compiler.structure.index_reduction", "pantelides", "Pantelides"),
+    ("compiler.structure.reduce", "reduce_index", "index reduction"),
+    ("compiler.structure.reduce", "select_states", "dummy derivatives"),
+    ("compiler.structure.reduce", "causalize", "causalize+tearing"),
+    ("compiler.structure.reduce", "build_initial_problem", "initialization"),
+    ("compiler.lower.state_set_variants", "monitored_levels", "state-set check"),
+    ("compiler.lower.to_casadi", "lower", "lower"),
+]
+STAGES = ["parse", "flatten", "structure", "lower", "compile"]
+SOLVERS = ["qr", "csparse", "lapacklu", "lapackqr", "mumps", "gmres"]
+
+
+def _timed(spent: dict, label: str, function):
+    @functools.wraps(function)
+    def timed(*args, **kwargs):
+        began = time.process_time()
+        try:
+            return function(*args, **kwargs)
+        finally:
+            spent[label] = spent.get(label, 0.0) + time.process_time() - began
+    return timed
+
+
+def compile_rows(sizes: list[int]):
+    from suite.chain_model import write_chain
+    from compiler.model.flatten import flatten_resolved
+    from compiler.model.library import Library, resolve_model
+    from compiler.pipeline import compile_flat
+    from compiler.syntax.parser import parse_file
+
+    spent: dict[str, float] = {}
+    pipeline = importlib.import_module("compiler.pipeline")
+    for module, name, label in PASSES:
+        owner = importlib.import_module(module)
+        timed = _timed(spent, label, getattr(owner, name))
+        setattr(owner, name, timed)
+        if getattr(pipeline, name, None) is not None:      # older pipelines import them eagerly
+            setattr(pipeline, name, timed)
+    parse = _timed(spent, "parse", parse_file)
+    with tempfile.TemporaryDirectory(prefix="dyadc-scale-") as tmp:
+        for n in [1, *sizes]:                       # N = 1: warm-up (parser tables, library)
+            spent.clear()
+            began = time.process_time()
+            library = Library(parser=parse)
+            flat = flatten_resolved(resolve_model(write_chain(n, Path(tmp)), library), library)
+            flattened = time.process_time()
+            compilation = compile_flat(flat)
+            done = time.process_time()
+            if n == 1 and 1 not in sizes:
+                continue
+            row = {"n": n, "equations": len(flat.equations), "states": len(compilation.model.state_names),
+                   "algebraics": len(compilation.model.algebraic_names), **spent,
+                   "flatten": flattened - began - spent.get("parse", 0.0),
+                   "lower": spent.get("state-set check", 0.0) + spent.get("lower", 0.0),
+                   "compile": done - began}
+            row["structure"] = done - flattened - row["lower"]
+            row["Pantelides"] = spent.get("Pantelides", 0.0)
+            row["index reduction"] = spent.get("index reduction", 0.0) - row["Pantelides"]
+            yield row
+
+
+def linsol_rows(sizes: list[int], repeats: int, solvers: list[str] = SOLVERS):
+    import casadi as ca
+    import numpy as np
+    from suite.chain_model import write_chain
+    from compiler import runtime
+    from compiler.pipeline import compile_spec
+
+    with tempfile.TemporaryDirectory(prefix="dyadc-scale-") as tmp:
+        for n in sizes:
+            model = compile_spec(write_chain(n, Path(tmp))).model
+            nx, nz, npar = model.sizes
+            x, z, p, t = ca.SX.sym("x", nx), ca.SX.sym("z", nz), ca.SX.sym("p", npar), ca.SX.sym("t")
+            ode, alg = model.dae(x, z, p, t)
+            nnz = ca.jacobian(ca.vertcat(ode, alg), ca.vertcat(x, z)).sparsity().nnz()
+            row = {"n": n, "unknowns": nx + nz, "jacobian_nnz": nnz, "density": nnz / (nx + nz) ** 2}
+            reference = None
+            for solver in solvers:
+                options = {"newton_scheme": solver} if solver == "gmres" else {"linear_solver": solver}
+                times = []
+                try:
+                    for _ in range(repeats):
+                        began = time.process_time()
+                        result = runtime.simulate(model, 0.5, rtol=1e-6, atol=1e-6, points=51,
+                                                  progress=False, integrator_options=options)
+                        times.append(time.process_time() - began)
+                except Exception as err:                      # a solver that fails is reported
+                    row[solver] = {"failed": str(err).splitlines()[-1][:120]}
+                    continue
+                last = np.asarray(result[model.state_names[-1]])
+                reference = last if reference is None else reference
+                row[solver] = {"seconds": statistics.median(times), "steps": int(result.stats.get("steps", 0)),
+                               "deviation": float(np.max(np.abs(last - reference)))}
+            yield row
+
+
+def _fit(rows: list[dict], key, lo: int = 8) -> float | None:
+    import numpy as np
+    points = [(r["n"], key(r)) for r in rows if r["n"] >= lo and key(r)]
+    if len(points) < 2:
+        return None
+    n, t = zip(*points)
+    return float(np.polyfit(np.log(n), np.log(t), 1)[0])
+
+
+def _local(rows: list[dict], key) -> float | None:
+    import math
+    if len(rows) < 2 or not key(rows[-1]) or not key(rows[-2]):
+        return None
+    return math.log(key(rows[-1]) / key(rows[-2])) / math.log(rows[-1]["n"] / rows[-2]["n"])
+
+
+def compile_table(rows: list[dict], title: str) -> list[str]:
+    columns = ["parse", "flatten", "checks", "alias", "derivative rank", "Pantelides", "index reduction",
+               "dummy derivatives", "causalize+tearing", "initialization", "structure", "lower", "compile"]
+    lines = [f"#### {title}", "", "| N | equations | " + " | ".join(columns) + " |",
+             "|---" * (len(columns) + 2) + "|"]
+    for r in rows:
+        lines.append(f"| {r['n']} | {r['equations']} | " + " | ".join(f"{r.get(c, 0.0):.2f}" for c in columns) + " |")
+    fits = [(c, _fit(rows, lambda r, c=c: r.get(c)), _local(rows, lambda r, c=c: r.get(c))) for c in columns]
+    lines += ["", "Growth exponents, least-squares over N >= 8 / local between the two largest N: "
+              + ", ".join(f"{c} {f:.2f} / {l:.2f}" for c, f, l in fits if f is not None and l is not None), ""]
+    return lines
+
+
+def linsol_table(rows: list[dict]) -> list[str]:
+    lines = ["| N | unknowns | Jacobian nnz (density) | " + " | ".join(SOLVERS) + " | steps |",
+             "|---" * (len(SOLVERS) + 4) + "|"]
+    for r in rows:
+        cells = []
+        for s in SOLVERS:
+            v = r.get(s, {})
+            cells.append(f"{v['seconds']:.3f} ({v['deviation']:.0e})" if "seconds" in v else "failed")
+        steps = "/".join(str(r[s]["steps"]) for s in ("qr", "gmres") if "steps" in r.get(s, {}))
+        lines.append(f"| {r['n']} | {r['unknowns']} | {r['jacobian_nnz']} ({r['density']:.2f}) | "
+                     + " | ".join(cells) + f" | {steps} |")
+    fits = [(s, _fit(rows, lambda r, s=s: r.get(s, {}).get("seconds"))) for s in SOLVERS]
+    lines += ["", "Growth exponents (N >= 8): " + ", ".join(f"{s} {f:.2f}" for s, f in fits if f is not None), ""]
+    return lines
+
+
+def main(argv: list[str]) -> None:
+    os.environ.setdefault("OMP_NUM_THREADS", "1")
+    mode, args = argv[0], argv[1:]
+    if mode == "compile":
+        for row in compile_rows([int(a) for a in args]):
+            print(json.dumps(row), flush=True)
+    elif mode == "linsol":
+        repeats, solvers = 3, SOLVERS
+        while args and args[0].startswith("--"):
+            key, value = args[0][2:].split("=")
+            repeats = int(value) if key == "repeats" else repeats
+            solvers = value.split(",") if key == "solvers" else solvers
+            args = args[1:]
+        for row in linsol_rows([int(a) for a in args], repeats, solvers):
+            print(json.dumps(row), flush=True)
+    elif mode == "report":
+        write_report(*args)
+    else:
+        raise SystemExit(__doc__)
+
+
+def _read(path: str) -> list[dict]:
+    return [json.loads(line) for line in Path(path).read_text().splitlines() if line.startswith("{")]
+
+
+def write_report(before: str, after: str, linsol: str, notes: str | None = None,
+                 out: str = str(ROOT / "docs" / "scaling.md")) -> None:
+    """docs/scaling.md from saved JSON lines: compile per pass before/after, linear solvers."""
+    from suite.machine import describe
+    machine = describe()
+    lines = ["# Scaling on the N-link pendulum chain", "",
+             "*Generated by `benchmarks/bench_scale.py report` from measurements of `bench_scale.py "
+             "compile` and `linsol` (see its docstring); do not edit by hand.*", "",
+             "Machine (at report time): " + ", ".join(f"{k} {v}" for k, v in machine.items()) + ". "
+             "Times are CPU seconds of the measuring process: the machine was shared with other work "
+             "(load average 10-17 on 2 cores), under which wall times were up to 10x larger.", "",
+             "## Compile time per pass", "",
+             "The chain of benchmarks/suite/chain_model.py (World + N x (Revolute + BodyShape)); one "
+             "process, warmed up on N = 1; `structure` is everything between flattening and lowering, "
+             "`lower` includes the state-set check; `compile` = parse + flatten + structure + lower.", ""]
+    lines += compile_table(_read(before), "Before (commit c48eb60)")
+    lines += compile_table(_read(after), "After")
+    lines += ["## Linear solver of IDAS", "",
+              "CPU seconds of one simulation (0.5 s, rtol = atol = 1e-6, 51 points; median of 3) per "
+              "linear solver (CasADi's `linear_solver` option of the idas plugin; `gmres` is "
+              "`newton_scheme: gmres`); in brackets the largest deviation of the last joint angle "
+              "from the `qr` run. `ma27` is not in this CasADi build.", ""]
+    lines += linsol_table(_read(linsol))
+    if notes:
+        lines += [Path(notes).read_text().rstrip(), ""]
+    Path(out).write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
