@@ -13,7 +13,7 @@ that writes Python's bytecode (into a temporary folder) as installing a package 
 more run of each kind under `python -X importtime` gives the import profile (top-level packages,
 cumulative, in ms) and a run in process gives the compile stages.
 
-    .venv/bin/python benchmarks/bench_coldstart.py [--repeat 5] [--profile] [--model M --stop T]
+    .venv/bin/python benchmarks/bench_coldstart.py [--repeat 5] [--profile] [--ref HEAD] [--model M --stop T]
 """
 from __future__ import annotations
 
@@ -36,11 +36,19 @@ EXCAVATOR = "MultibodyComponents.PlanarMechanics.examples.excavator.Excavator"
 SOURCES = ROOT        # replaced by the snapshot in main()
 
 
-def snapshot(folder: Path) -> Path:
-    """A copy of the package as installed: compiler/ with the library in compiler/components/."""
+def snapshot(folder: Path, ref: str | None = None) -> Path:
+    """A copy of the package as installed: compiler/ with the library in compiler/components/,
+    from the work tree, or from the commit `ref` (`git archive`)."""
+    source = ROOT
+    if ref is not None:
+        source = folder / "checkout"
+        source.mkdir()
+        archive = subprocess.run(["git", "archive", "--format=tar", ref, "compiler", "components"], cwd=ROOT,
+                                 capture_output=True, check=True).stdout
+        subprocess.run(["tar", "-x", "-C", str(source)], input=archive, check=True)
     ignore = shutil.ignore_patterns("__pycache__", "*.pyc")
-    shutil.copytree(ROOT / "compiler", folder / "compiler", ignore=ignore)
-    shutil.copytree(ROOT / "components", folder / "compiler" / "components", ignore=ignore)
+    shutil.copytree(source / "compiler", folder / "compiler", ignore=ignore)
+    shutil.copytree(source / "components", folder / "compiler" / "components", ignore=ignore)
     return folder
 
 
@@ -137,10 +145,12 @@ def main() -> int:
     parser.add_argument("--stop", type=float, default=12.0)
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--profile", action="store_true", help="also the import and stage profiles")
+    parser.add_argument("--ref", metavar="COMMIT", help="measure this commit (e.g. HEAD) instead of the "
+                                                       "work tree with its uncommitted edits")
     args = parser.parse_args()
     global SOURCES
     with tempfile.TemporaryDirectory(prefix="dyadc-bench-sources-") as copy:
-        SOURCES = snapshot(Path(copy))
+        SOURCES = snapshot(Path(copy), args.ref)
         used = subprocess.run([sys.executable, "-c", "import compiler; print(compiler.__file__)"], cwd=SOURCES,
                               capture_output=True, text=True, check=True).stdout.strip()
         if not Path(used).is_relative_to(SOURCES):
