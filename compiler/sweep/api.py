@@ -145,8 +145,7 @@ def _job(prepared: Prepared, options: SweepOptions) -> Job:
     variables = tuple(options.variables) if options.variables is not None else tuple(model.state_names)
     metrics: list[Metric] = parse_metrics(list(options.metrics))
     for (payload, _), case in zip(prepared.parts, prepared.cases):
-        # a switching model reports its public names (its variants output internal ones too)
-        outputs = list(payload.public_names or payload.data["output_names"])
+        outputs = list(payload.data["output_names"])
         known = set(outputs) | {"time"}
         for name in list(variables) + [n for m in metrics for n in m.names]:
             if name not in known:

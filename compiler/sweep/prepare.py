@@ -25,13 +25,13 @@ class Prepared:
 
 
 def prepare(model, design: Design, lib_dirs: Sequence[str], recompile: bool) -> Prepared:
-    compiled, flat_parameters, compilation = compile_model(model, lib_dirs)
+    compiled, flat_parameters, _ = compile_model(model, lib_dirs)
     names = list(design.names) + [n for n in design.fixed if n not in design.names]
     samples = [(i, design.sample(i)) for i in range(len(design))]
     structural = compiled_in(compiled, names, flat_parameters) if recompile else []
     if not structural:
         check_parameters(compiled, names, flat_parameters)
-        return Prepared(compiled, [(payload_of(compiled, compilation), samples)])
+        return Prepared(compiled, [(payload_of(compiled), samples)])
     if not isinstance(model, str):
         raise DyadError(f"cannot recompile {compiled.name} for {', '.join(structural)}: it was given "
                         "compiled", hint="pass the model as a MODEL spec (a file or a qualified name)")
@@ -49,7 +49,7 @@ def prepare(model, design: Design, lib_dirs: Sequence[str], recompile: bool) -> 
                              {p.name: p for p in case_compilation.flat.parameters})
         except DyadError as err:
             raise DyadError(f"with {describe(case)}: {err.message}", err.span, err.hint, err.notes) from None
-        parts.append((payload_of(case_model, case_compilation), members))
+        parts.append((payload_of(case_model), members))
         first = case_model if first is None else first
     return Prepared(first, parts, tuple(structural), len(parts), tuple(groups))
 
@@ -67,15 +67,15 @@ def compile_model(model, lib_dirs: Sequence[str]):
     return model.model, {p.name: p for p in model.flat.parameters}, model
 
 
-def payload_of(model: CompiledModel, compilation) -> ModelPayload:
-    """The model as it travels; a model whose state set switches travels with all its state sets."""
-    if model.state_sets and (compilation is None or not compilation.dynamic):
-        raise DyadError(f"cannot sweep {model.name} from its compiled model alone: its state set "
-                        "switches during the run, and its other state sets are built by the compiler",
-                        hint="pass the model as a MODEL spec or a Compilation (compiler.api.compile)")
-    if compilation is not None and compilation.dynamic:
-        from compiler.sweep.variants import prebuild_variants
-        return ModelPayload.of(model, prebuild_variants(compilation))
+def payload_of(model: CompiledModel) -> ModelPayload:
+    """The model as it travels. A model whose state set switches must carry its other state sets
+    (CompiledModel.variants, built at compile time): a worker has no compiler to build them."""
+    if model.state_sets and not model.variants:
+        raise DyadError(f"cannot sweep {model.name}: its state set switches during the run, and its "
+                        "compiled model does not carry its other state sets (the compiler builds them "
+                        "ahead of time only up to a limit; beyond it `dyadc simulate` builds them "
+                        "as the run reaches them, which a worker cannot)",
+                        hint="simulate its cases one by one with `dyadc simulate -p NAME=VALUE`")
     return ModelPayload.of(model)
 
 

@@ -17,37 +17,19 @@ import numpy as np
 
 from compiler.runtime import CompiledModel, ModelInputError, SimulationFailed, simulate
 from compiler.sweep.metrics import Metric
-from compiler.sweep.switching import PrebuiltSwitcher
 
 
 @dataclass(frozen=True)
 class ModelPayload:
-    """A compiled model as it travels: its serialized dict and a digest naming it. A model whose
-    state set switches travels with every state set (`variants`: the dummy derivatives and the
-    serialized model of each, the first being `data`) and the signals they all report."""
+    """A compiled model as it travels: its serialized dict (with the state-set variants a switching
+    model carries, CompiledModel.variants) and a digest naming it."""
     digest: str
     data: Mapping
-    variants: tuple[tuple[tuple[str, ...], Mapping], ...] = ()
-    public_names: tuple[str, ...] = ()
 
     @classmethod
-    def of(cls, model: CompiledModel, prebuilt=None) -> "ModelPayload":
-        """`prebuilt`: the state sets of a switching model (compiler.sweep.variants)."""
+    def of(cls, model: CompiledModel) -> "ModelPayload":
         data = model.to_dict()
-        variants, public = (), ()
-        if prebuilt is not None:
-            variants = tuple((d, m.to_dict()) for d, m in zip(prebuilt.dummies, prebuilt.models))
-            public = tuple(prebuilt.public_names)
-        digest = hashlib.sha256(pickle.dumps((data, variants, public), protocol=4)).hexdigest()
-        return cls(digest, data, variants, public)
-
-
-@dataclass(frozen=True)
-class Runnable:
-    """A deserialized payload: the model a run starts with and, for a switching model, the
-    switcher over its state sets."""
-    model: CompiledModel
-    switcher: PrebuiltSwitcher | None = None
+        return cls(hashlib.sha256(pickle.dumps(data, protocol=4)).hexdigest(), data)
 
 
 @dataclass(frozen=True)
@@ -77,23 +59,17 @@ class Outcome:
     worker: str = "local"
 
 
-_MODELS: dict[str, Runnable] = {}          # per process: deserialized once, reused by every batch
+_MODELS: dict[str, CompiledModel] = {}     # per process: deserialized once, reused by every batch
 _KEEP = 8                                    # a --recompile sweep ships one model per structural case
 
 
-def load_model(payload: ModelPayload) -> Runnable:
-    runnable = _MODELS.get(payload.digest)
-    if runnable is None:
+def load_model(payload: ModelPayload) -> CompiledModel:
+    model = _MODELS.get(payload.digest)
+    if model is None:
         if len(_MODELS) >= _KEEP:
             _MODELS.pop(next(iter(_MODELS)))     # the oldest: workers serve one sweep at a time
-        if payload.variants:
-            models = [CompiledModel.from_dict(data) for _, data in payload.variants]
-            switcher = PrebuiltSwitcher(models, [d for d, _ in payload.variants], payload.public_names)
-            runnable = Runnable(models[0], switcher)
-        else:
-            runnable = Runnable(CompiledModel.from_dict(payload.data))
-        _MODELS[payload.digest] = runnable
-    return runnable
+        model = _MODELS[payload.digest] = CompiledModel.from_dict(payload.data)
+    return model
 
 
 def run_batch(payload: ModelPayload, job: Job, batch: Sequence[tuple[int, Mapping[str, float]]]
@@ -108,11 +84,12 @@ def run_batch(payload: ModelPayload, job: Job, batch: Sequence[tuple[int, Mappin
     return outcomes
 
 
-def run_sample(model: Runnable, job: Job, sample: int, params: Mapping[str, float]) -> Outcome:
+def run_sample(model: CompiledModel, job: Job, sample: int, params: Mapping[str, float]) -> Outcome:
     began = _time.perf_counter()
     try:
         # progress=False: a progress bar splits the run into chunks, which would change the numbers
-        result = simulate(model.model, job.stop, switcher=model.switcher, start=job.start,
+        # a model that carries state-set variants switches among them (runtime.VariantSwitcher)
+        result = simulate(model, job.stop, start=job.start,
                           rtol=job.rtol, atol=job.atol, points=job.points,
                           saveat=list(job.saveat) if job.saveat else None, params=dict(params),
                           progress=False)

@@ -185,7 +185,7 @@ def test_several_compiled_models_on_one_cluster_a_switching_model_and_recompiled
 
     def compiler_modules():
         import sys as worker_sys
-        return sorted(m for m in ("sympy", "lark", "compiler.pipeline", "compiler.sweep.variants")
+        return sorted(m for m in ("sympy", "lark", "compiler.pipeline", "compiler.lower.state_set_variants")
                       if m in worker_sys.modules)
     assert all(found == [] for found in client.run(compiler_modules).values())
 

@@ -1,5 +1,6 @@
 """A model whose state set switches during the run (the Cartesian pendulum swinging past the
-horizontal) sweeps like any other: every state set is built on the client, and each sample gives,
+horizontal) sweeps like any other: its compiled model carries every state set (built at compile
+time, on the client) and switches among them with the runtime only; each sample gives,
 number for number, what `simulate` of a fresh compilation gives (serial engine here; the Dask
 engine in test_dask.py)."""
 from pathlib import Path
@@ -8,7 +9,6 @@ import numpy as np
 import pytest
 
 from compiler import api
-from compiler.errors import DyadError
 from compiler.pipeline import compile_spec
 from compiler.sweep import SweepOptions, sweep
 
@@ -57,7 +57,8 @@ def test_a_switching_model_sweeps_serially_as_separate_runs(reference):
     assert_equal_to_separate_runs(result, reference)
 
 
-def test_its_compiled_model_alone_is_refused_with_a_reason():
-    with pytest.raises(DyadError, match="its state set switches during the run, and its other state "
-                                        "sets are built by the compiler"):
-        sweep(pendulum().model, GRID, SweepOptions(serial=True, **RUN))
+def test_its_compiled_model_alone_carries_its_state_sets_and_sweeps_the_same(reference):
+    compiled = pendulum().model
+    assert compiled.state_sets and len(compiled.variants) >= 1      # every other state set travels with it
+    result = sweep(compiled, GRID, SweepOptions(serial=True, **RUN))
+    assert_equal_to_separate_runs(result, reference)
