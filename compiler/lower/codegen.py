@@ -1,7 +1,9 @@
 """Generate a Python module for a CompiledModel.
 
-`write_module` writes `<module_name>.py`: the serialized CasADi Functions plus a thin API. The
-module imports casadi, numpy, the standard library and the run-time package, nothing else:
+`write_module` writes `<module_name>.py`: the serialized CasADi Functions plus a thin API. A model
+whose state set switches carries every state set (`CompiledModel.variants`) in that payload, and
+with `--codegen c` each one's library beside the module, so the module switches as dyadc does
+(compiler/runtime/variants.py). The module imports casadi, numpy, the standard library and the run-time package, nothing else:
 
 - by default the compiler's own `compiler.runtime` (dyadc must be installed where it runs);
 - with `standalone=True` (`dyadc compile --standalone`) a copy of that package written beside the
