@@ -63,6 +63,9 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("inspect", help="print every pass of the structural analysis")
     _add_model(p)
+    p.add_argument("--stop", type=float, metavar="T",
+                   help="also simulate to T and list the state-set switches and events of the run")
+    p.add_argument("--rtol", type=float, default=1e-6, help="relative tolerance of that run (default 1e-6)")
     p.set_defaults(run=_cmd_inspect)
 
     p = sub.add_parser("compile", help="write a Python module for a model")
@@ -216,9 +219,17 @@ def _cmd_flatten(args) -> int:
 
 
 def _cmd_inspect(args) -> int:
-    from compiler.inspect_report import format_report
+    from compiler.inspect_report import format_report, format_switch_log
     from compiler.pipeline import compile_spec
-    print(format_report(compile_spec(args.model, args.lib)))
+    compilation = compile_spec(args.model, args.lib)
+    print(format_report(compilation))
+    if args.stop is not None:
+        from compiler import api
+        from compiler.runtime.options import SimulationOptions
+        SimulationOptions(stop=args.stop, rtol=args.rtol, atol=args.rtol).validated()   # clear errors first
+        print()
+        print(format_switch_log(api.simulate_compiled(compilation, args.stop, rtol=args.rtol,
+                                                      atol=args.rtol, progress=False)))
     return 0
 
 

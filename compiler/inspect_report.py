@@ -13,6 +13,20 @@ def _names(names: list[str]) -> str:
     return shown + (f", ... ({len(names) - _MAX_NAMES} more)" if len(names) > _MAX_NAMES else "") if names else "-"
 
 
+def format_switch_log(result) -> str:
+    """The state-set switches and events of a run: time, old set, new set, and the pivot quality
+    of the old set there (its pivot block's smallest singular value against the best choice's)."""
+    lines = [f"run to t = {result.time[-1]:.6g}: {len(result.switches)} state-set switches, "
+             f"{len(result.events)} events, {result.stats.get('steps', 0)} IDAS steps"]
+    for switch in result.switches:
+        lines.append(f"  t = {switch['time']:<14.10g} ({', '.join(switch['from'])}) -> "
+                     f"({', '.join(switch['to'])})  pivot quality {switch.get('quality', float('nan')):.3g}"
+                     f"  degraded: {switch['degraded']}")
+    for event in result.events:
+        lines.append(f"  t = {event['time']:<14.10g} event {event['event']}")
+    return "\n".join(lines)
+
+
 def format_report(compilation: Compilation) -> str:
     report = compilation.report
     lines = [f"model {compilation.model.name}", "", "counts:"]
@@ -21,6 +35,10 @@ def format_report(compilation: Compilation) -> str:
     lines += ["", f"structural index: {report.structural_index}",
               f"states ({len(report.states)}): {_names(report.states)}",
               f"dummy derivatives ({len(report.dummy_derivatives)}): {_names(report.dummy_derivatives)}"]
+    for k, level in enumerate(compilation.model.state_sets):
+        chosen = [level["candidates"][j] for j in level["chosen"]]
+        lines.append(f"monitored state-set level {k}: {level['rows']} of {len(level['candidates'])} "
+                     f"candidates ({_names(level['candidates'])}) are dummy derivatives; now: {_names(chosen)}")
     if report.pivot_conditions:
         lines.append("pivot block condition numbers: " + ", ".join(f"{c:.3g}" for c in report.pivot_conditions))
     sizes = Counter(report.block_sizes)
