@@ -17,22 +17,22 @@ import numpy as np
 
 from . import interrupts
 from .checks import bound_violation, check_divergence, state_scales
+from .crossings import before_failure, first_crossing, locate, next_horizon, watched_values
 from .errors import SimulationFailed, SimulationInterrupted
 from .idas import integrator_options
-from .initialization import consistent_initialization, restart_point
+from .initialization import consistent_initialization
 from .integrator import COUNTERS, IdasIntegrator
 from .model import CompiledModel
 from .options import SimulationOptions
-from .outputs import evaluate_outputs, polish_algebraics, signals_at
+from .outputs import signals_at
 from .progress import Progress
 from .result import Result
-from .state_sets import SWITCH_RATIO, state_selection_quality
+from .segments import first_step, segment_ends, segment_times, with_clock
 from .static import solve_static
-from .watches import Watch, build_watch, time_breakpoints
+from .switching import all_outputs, explained, switch_state_set
+from .watches import build_watch
 
 CHECKS_PER_SEGMENT = 200
-ROOT_ITERATIONS = 60
-ROOT_TOLERANCE = 1e-12           # relative, on the time of a located crossing
 MAX_EVENTS_AT_ONE_TIME = 50
 MAX_RETRIES = 200                # shortened segments after IDAS failures, per run
 INITIAL_CHUNKS = 100             # a state-set model's first IDAS call reaches 1/100 of the span
@@ -122,7 +122,7 @@ def simulate(model: CompiledModel, stop: float | None = None, *, options: Simula
     options = options.validated()
     run = _Run(model, options, switcher)
     p = model.parameter_vector(options.params)
-    run.ends = _segment_ends(model, p, options)
+    run.ends = segment_ends(model, p, options)
     p = with_clock(model, p, options.start, run.ends[0])
     stats: dict = {"compile_time": model.compile_time}
     began = _time.perf_counter()
@@ -217,7 +217,7 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
                 reach = end
             checks = [] if watch is None else list(np.linspace(t, reach, CHECKS_PER_SEGMENT + 1)[1:])
             step0 = first_step(integrator, x, z, p, t, reach)
-        outputs, m = _segment_times(grid, k, reach, inclusive=True)
+        outputs, m = segment_times(grid, k, reach, inclusive=True)
         times = sorted(set(outputs) | set(checks))
         try:
             # every run starts from a point that solves the algebraic equations already (the
@@ -228,9 +228,9 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
             # a bound crossing before the failure shows in the first retry; a degrading state set
             # may need a few, each ending nearer the failure (switches are proposed there)
             again = t in run.forced_ends and (not model.state_sets or len(run.forced_ends) > MAX_RETRIES)
-            shorter = None if again else _before_failure(watch, checks, failure, t)
+            shorter = None if again else before_failure(watch, checks, failure, t)
             if shorter is None:
-                raise _explained(model, failure) from None
+                raise explained(model, failure) from None
             # a watched crossing (a bound, a degrading state set) may come before the failure and
             # explain it: run again up to the last check time IDAS got past
             run.retry = (t, shorter, [c for c in checks if c <= shorter], step0)
@@ -238,8 +238,8 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
             run.horizon = min(run.horizon, shorter - t)
             continue
         run.add(segment.counters)
-        watched = None if watch is None else _watched_values(watch, t, x, z, p, times, checks, segment)
-        crossing = None if watch is None else _first_crossing(model, watch, t, p, times, checks,
+        watched = None if watch is None else watched_values(watch, t, x, z, p, times, checks, segment)
+        crossing = None if watch is None else first_crossing(model, watch, t, p, times, checks,
                                                               segment, watched)
         reached = len(times) if crossing is None else int(np.searchsorted(times, crossing[0]))
         check_divergence(model, np.asarray(times[:reached]), segment.xs[:, :reached], scale)
@@ -249,7 +249,7 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
         k += n_out
         if crossing is None:
             if model.state_sets:
-                run.horizon = max(_next_horizon(watch, t, checks, watched, run.horizon), run.shortest_reach)
+                run.horizon = max(next_horizon(watch, t, checks, watched, run.horizon), run.shortest_reach)
             t, x, z = reach, segment.xs[:, -1], segment.zs[:, -1]
             restarts_here = 0
             if reach >= end:
@@ -257,9 +257,9 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
             if retry is not None and model.state_sets and run.switcher is not None:
                 # IDAS failed a little further on: take the state set pivoting prefers here, if
                 # it is another one, before going into the failure again
-                values = dict(zip(model.output_names, _all_outputs(model, x, z, p, t)))
+                values = dict(zip(model.output_names, all_outputs(model, x, z, p, t)))
                 if run.switcher.switch(model, values, t).state_names != model.state_names:
-                    model, x, z, p = _switch(run, model, values, t, p, x, z, 0)
+                    model, x, z, p = switch_state_set(run, model, values, t, p, x, z, 0)
             progress.update(t)
             continue
         t_right, t_left, row = crossing
@@ -277,7 +277,7 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
         else:
             left = times.index(t_left) if t_left in times else -1
             x_left, z_left = (segment.xs[:, left], segment.zs[:, left]) if left >= 0 else (x, z)
-            t_cross, x_cross, z_cross, crossed = _locate(run, integrator, watch, row, t_left, t_right,
+            t_cross, x_cross, z_cross, crossed = locate(run.add, integrator, watch, row, t_left, t_right,
                                                          x_left, z_left, p)
             # outputs between the check before the crossing and the crossing were computed past a
             # kink the segment stepped over: recompute them up to the crossing
@@ -288,7 +288,7 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
                 t, x, z = t_cross, x_cross, z_cross
                 progress.update(t)
                 continue
-        values = dict(zip(model.output_names, _all_outputs(model, x_cross, z_cross, p, t_cross)))
+        values = dict(zip(model.output_names, all_outputs(model, x_cross, z_cross, p, t_cross)))
         restarts_here = restarts_here + 1 if t_cross - t <= 1e-12 * max(1.0, abs(t)) else 0
         if restarts_here > MAX_EVENTS_AT_ONE_TIME:
             reason = f"the condition {what} switches back and forth without time advancing (chattering)"
@@ -302,7 +302,7 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
             x, z = x_cross, z_cross
         else:
             run.durations[tuple(model.state_names)] = t_cross - run.last_switch
-            model, x, z, p = _switch(run, model, values, t_cross, p, x_cross, z_cross, what)
+            model, x, z, p = switch_state_set(run, model, values, t_cross, p, x_cross, z_cross, what)
             scale = state_scales(model, x)        # other states: their scale from the switch point
             # the run is likely to stay in this state set about as long as it did last time (an
             # oscillation), and every call that ends before the next switch costs a restart
@@ -313,136 +313,6 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
         t = t_cross
         progress.update(t)
     return t
-
-
-def _explained(model: CompiledModel, failure: SimulationFailed) -> SimulationFailed:
-    """An IDAS failure of a model whose state set is monitored: name the constraints whose dummy
-    derivatives may have gone singular before the check could see it."""
-    if not model.state_sets:
-        return failure
-    sets = "; ".join(", ".join(level["candidates"]) for level in model.state_sets)
-    hint = (f"; the state set ({', '.join(model.state_names)}) of this model is chosen among the "
-            f"derivatives of its constraints ({sets}) and may have become singular here")
-    return SimulationFailed(str(failure) + hint, failure.time_reached, (failure.reason or "") + hint,
-                            failure.variable)
-
-
-def _before_failure(watch, checks: list[float], failure: SimulationFailed, t: float) -> float | None:
-    """The last check time before an IDAS failure inside a watched segment (None: not watched, or
-    the failure came before the first check)."""
-    if watch is None or failure.time_reached is None or not np.isfinite(failure.time_reached):
-        return None
-    # IDAS reports the last output time it reached, which may be a check time: the run got there
-    before = [c for c in checks if t < c <= failure.time_reached]
-    return before[-1] if before else None
-
-
-def _watched_values(watch: Watch, t0, x0, z0, p, times, checks, segment) -> np.ndarray:
-    """The watched functions at the segment's start and at its check times (rows x 1 + checks)."""
-    at = np.searchsorted(times, checks)
-    return np.column_stack([watch.values(np.asarray(x0).reshape(-1, 1), np.asarray(z0).reshape(-1, 1),
-                                         p, [t0]),
-                            watch.values(segment.xs[:, at], segment.zs[:, at], p, checks)])
-
-
-def _next_horizon(watch: Watch, t0: float, checks: list[float], values: np.ndarray, horizon: float) -> float:
-    """How far the next IDAS call of a state-set model reaches: a quarter past where the state-set
-    indicators are predicted to cross, between an eighth and twice the last reach.
-
-    An indicator is 1 - SWITCH_RATIO * r (state_sets.switch_indicators), r the largest entry of
-    B^-1 A, which grows like the inverse of a coordinate going to zero (a pendulum's x at the
-    bottom): 1 / r falls about linearly there, so it is 1 / r that is extrapolated (from the last
-    quarter of the checks) to its value at the crossing, 1 / r = SWITCH_RATIO."""
-    rows = [i for i, (kind, _) in enumerate(watch.labels) if kind == "state set"]
-    grow = 2.0 * horizon
-    if not rows or len(checks) < 2:
-        return grow
-    times = np.concatenate([[t0], checks])
-    ratio = (1.0 - values[rows]) / SWITCH_RATIO
-    with np.errstate(divide="ignore", invalid="ignore"):
-        inverse = np.where(ratio > 0, 1.0 / ratio, np.inf)
-    j = max(0, len(times) - 1 - len(checks) // 4)
-    with np.errstate(invalid="ignore"):
-        slope = (inverse[:, -1] - inverse[:, j]) / (times[-1] - times[j])
-    falling = (slope < 0) & np.isfinite(slope) & np.isfinite(inverse[:, -1])
-    if not falling.any():
-        return grow
-    gap = float(np.min((inverse[falling, -1] - SWITCH_RATIO) / -slope[falling]))
-    return float(np.clip(1.25 * gap, horizon / 8.0, grow))
-
-
-def _first_crossing(model: CompiledModel, watch: Watch, t0, p, times, checks, segment, values):
-    """(check time after the crossing, check time before it, row) of the first watched function
-    that changes sign between two check times; None when none does."""
-    at = np.searchsorted(times, checks)
-    xs, zs = segment.xs[:, at], segment.zs[:, at]
-    before, after = values[:, :-1], values[:, 1:]
-    kinds = [kind for kind, _ in watch.labels]
-    events = np.array([k == "event" for k in kinds])[:, None]
-    crossed = np.where(events, (before > 0) != (after > 0), (before > 0) & ~(after > 0))
-    crossed &= np.isfinite(before)
-    # a single-row level's indicator is its quality test already (|pivot| against the largest
-    # alternative); a multi-row level's only proposes a switch, taken where the chosen block's
-    # smallest singular value is below SWITCH_RATIO times that of the block pivoting would choose
-    # (the determinant ratio behind the indicator depends on the columns' units)
-    rows_of = {what: i for i, (kind, what) in enumerate(watch.labels) if kind == "state set"}
-    multi = [rows_of[level] for level, spec in enumerate(model.state_sets)
-             if level in rows_of and int(spec["rows"]) > 1]
-    crossed[multi] = False
-    hits = list(np.nonzero(crossed.any(axis=0))[0])
-    proposed = list(np.nonzero((~(after[multi] > 0)).any(axis=0))[0]) if multi else []
-    proposed = [j for j in proposed if not hits or j < hits[0]]
-    if proposed:
-        at_checks = np.asarray(checks)[proposed]
-        polished = polish_algebraics(model, xs[:, proposed], zs[:, proposed], p, at_checks)
-        outputs = evaluate_outputs(model, xs[:, proposed], polished, p, at_checks)
-        for column, j in enumerate(proposed):
-            quality, level = state_selection_quality(model.state_sets, outputs[:, column])
-            if quality < SWITCH_RATIO and level in rows_of:
-                return float(checks[j]), float(t0 if j == 0 else checks[j - 1]), rows_of[level]
-    if not hits:
-        return None
-    j = int(hits[0])
-    row = int(np.nonzero(crossed[:, j])[0][0])
-    return float(checks[j]), float(t0 if j == 0 else checks[j - 1]), row
-
-
-def _locate(run: _Run, integrator, watch: Watch, row: int, t_a: float, t_b: float, x_a, z_a, p):
-    """The crossing of watch row `row` in (t_a, t_b] by the Illinois method on short IDAS runs
-    from (t_a, x_a, z_a): the first time found on the far side, the point there and True; or t_b,
-    the point there and False when the run from t_a does not cross at all."""
-    def value_at(t):
-        if t == t_a:
-            return float(watch.values(np.asarray(x_a).reshape(-1, 1), np.asarray(z_a).reshape(-1, 1),
-                                      p, [t])[row, 0]), x_a, z_a
-        segment = integrator.run_to(t_a, t, x_a, z_a, p)
-        run.add(segment.counters)
-        xs, zs = segment.xs[:, -1], segment.zs[:, -1]
-        return float(watch.values(xs.reshape(-1, 1), zs.reshape(-1, 1), p, [t])[row, 0]), xs, zs
-
-    g_a, _, _ = value_at(t_a)
-    g_b, x_b, z_b = value_at(t_b)
-    if (g_b > 0) == (g_a > 0):
-        return t_b, x_b, z_b, False
-    lo, hi, g_lo, g_hi, side = t_a, t_b, g_a, g_b, 0
-    for _ in range(ROOT_ITERATIONS):
-        if hi - lo <= ROOT_TOLERANCE * max(1.0, abs(hi)):
-            break
-        guess = hi - g_hi * (hi - lo) / (g_hi - g_lo) if g_hi != g_lo else 0.5 * (lo + hi)
-        if not lo < guess < hi:
-            guess = 0.5 * (lo + hi)
-        g, x_g, z_g = value_at(guess)
-        if (g > 0) == (g_lo > 0):
-            lo, g_lo = guess, g
-            if side == -1:
-                g_hi *= 0.5                         # Illinois: keep the stale end from stalling
-            side = -1
-        else:
-            hi, g_hi, x_b, z_b = guess, g, x_g, z_g
-            if side == 1:
-                g_lo *= 0.5
-            side = 1
-    return hi, x_b, z_b, True
 
 
 def _refill(run: _Run, model, integrator, p, public_index, k: int, t_a: float, t_b: float,
@@ -459,93 +329,6 @@ def _refill(run: _Run, model, integrator, p, public_index, k: int, t_a: float, t
         run.add(segment.counters)
         run.store(model, segment.xs, segment.zs, p, times, first, public_index)
     return max(k, last)
-
-
-def first_step(integrator, x, z, p, t0: float, t1: float) -> float:
-    """IDAS's own rule for its first step (a thousandth of the distance, then h * der(x) at most
-    0.5 in the weighted RMS norm), applied to the segment's end instead of the first output time,
-    on which IDAS would make the run depend; rounded down to a power of 2, so that repeated runs
-    ask for the same integrator objects."""
-    model, options = integrator.model, integrator.options
-    nx = len(model.state_names)
-    h = 1e-3 * (t1 - t0)
-    try:
-        xdot = np.asarray(model.dae(x, z, p, t0)[0], dtype=float).reshape(-1)
-    except RuntimeError:
-        xdot = np.zeros(nx)
-    atol = np.asarray(options.get("abstolv", [options.get("abstol", 1e-8)] * nx), dtype=float)[:nx]
-    weights = float(options.get("reltol", 1e-6)) * np.abs(np.asarray(x, dtype=float)) + atol
-    norm = float(np.sqrt(np.sum((xdot / weights) ** 2) / max(1, nx + len(model.algebraic_names))))
-    if np.isfinite(norm) and norm * h > 0.5:
-        h = 0.5 / norm
-    return float(2.0 ** np.floor(np.log2(h))) if h > 0 and np.isfinite(h) else 1e-3 * (t1 - t0)
-
-
-def _segment_ends(model: CompiledModel, p: np.ndarray, options: SimulationOptions) -> list[float]:
-    """Where segments end: the model's time events, the caller's breakpoints, the stop time."""
-    start, stop = options.start, options.stop
-    breaks = set(time_breakpoints(model, p, start, stop))
-    breaks |= {float(b) for b in options.breakpoints or () if start < float(b) < stop}
-    ends: list[float] = []
-    for b in sorted(breaks) + [stop]:            # events closer than round-off are one event
-        if ends and b - ends[-1] <= 1e-12 * max(1.0, abs(b)):
-            ends[-1] = b
-        elif b - start > 1e-12 * max(1.0, abs(b)):
-            ends.append(b)
-    return ends
-
-
-def with_clock(model: CompiledModel, p: np.ndarray, t_a: float, t_b: float) -> np.ndarray:
-    """p with the model's event clock (compiler/lower/events.py) in the middle of the segment [t_a, t_b]:
-    conditions on time hold one value over the whole segment, its ends included."""
-    name = model.metadata.get("event_clock")
-    if name is None:
-        return p
-    p = np.array(p, dtype=float)
-    p[model.parameter_names.index(name)] = 0.5 * (t_a + t_b)
-    return p
-
-
-def _segment_times(grid: np.ndarray, k: int, end: float, inclusive: bool) -> tuple[list[float], int]:
-    """The output times from grid index k up to `end` (IDAS's grid for the segment, ending at
-    `end`), and how many of them are grid points."""
-    upto = np.searchsorted(grid, end, side="right" if inclusive else "left")
-    times = [float(v) for v in grid[k:upto]]
-    assert not times or times[0] > grid[k - 1], "output times run backwards"
-    m = len(times)
-    if not times or times[-1] != end:
-        times.append(float(end))
-    return times, m
-
-
-def _switch(run: _Run, model: CompiledModel, values: Mapping[str, float], t: float, p, x, z, level: int):
-    """Continue in the state set that the switcher chooses at this point."""
-    current = model.state_sets[level]
-    dummies = ", ".join(current["candidates"][j] for j in current["chosen"])
-    if run.switcher is None:
-        reason = (f"its state set ({', '.join(model.state_names)}) degrades here (the pivot block of "
-                  f"the dummy derivatives {dummies} is close to singular); this model carries one "
-                  f"state set: simulate it with dyadc, which switches state sets")
-        raise SimulationFailed(f"simulation of {model.name} stopped at t = {t:.10g}: {reason}", t, reason)
-    new = run.switcher.switch(model, values, t)
-    if new.state_names == model.state_names:
-        reason = "the state selection is singular here and no better one exists"
-        raise SimulationFailed(f"simulation of {model.name} failed at t = {t:.10g}: {reason}", t, reason)
-    column = np.array([values.get(n, np.nan) for n in model.output_names], dtype=float)
-    quality, _ = state_selection_quality(model.state_sets, column)
-    run.switches.append({"time": float(t), "from": list(model.state_names), "to": list(new.state_names),
-                         "degraded": dummies, "quality": float(quality)})
-    p_new = new.parameter_vector(run.options.params)
-    x_target = np.array([values[n] for n in new.state_names])
-    z_guess = np.array([values.get(n, 0.0) for n in new.algebraic_names])
-    point = restart_point(new, p_new, t, x_target, z_guess)
-    return new, point.x, point.z, p_new
-
-
-def _all_outputs(model: CompiledModel, x, z, p, t: float) -> np.ndarray:
-    xs, zs = np.asarray(x).reshape(-1, 1), np.asarray(z).reshape(-1, 1)
-    zs = polish_algebraics(model, xs, zs, p, np.array([t]))
-    return evaluate_outputs(model, xs, zs, p, np.array([t]))[:, 0]
 
 
 def _outputs_at(run: _Run, model: CompiledModel, x, z, p, t: float) -> np.ndarray:

@@ -1,0 +1,133 @@
+"""What the driver does with the watched functions of a segment (watches.py): find the first
+crossing between check times, locate it by a root search on short IDAS runs, predict how far
+the next IDAS call of a state-set model should reach, and where to cut a call that failed."""
+from __future__ import annotations
+
+import numpy as np
+
+from .errors import SimulationFailed
+from .model import CompiledModel
+from .outputs import evaluate_outputs, polish_algebraics
+from .state_sets import SWITCH_RATIO, state_selection_quality
+from .watches import Watch
+
+ROOT_ITERATIONS = 60
+ROOT_TOLERANCE = 1e-12           # relative, on the time of a located crossing
+
+
+def before_failure(watch, checks: list[float], failure: SimulationFailed, t: float) -> float | None:
+    """The last check time before an IDAS failure inside a watched segment (None: not watched, or
+    the failure came before the first check)."""
+    if watch is None or failure.time_reached is None or not np.isfinite(failure.time_reached):
+        return None
+    # IDAS reports the last output time it reached, which may be a check time: the run got there
+    before = [c for c in checks if t < c <= failure.time_reached]
+    return before[-1] if before else None
+
+
+def watched_values(watch: Watch, t0, x0, z0, p, times, checks, segment) -> np.ndarray:
+    """The watched functions at the segment's start and at its check times (rows x 1 + checks)."""
+    at = np.searchsorted(times, checks)
+    return np.column_stack([watch.values(np.asarray(x0).reshape(-1, 1), np.asarray(z0).reshape(-1, 1),
+                                         p, [t0]),
+                            watch.values(segment.xs[:, at], segment.zs[:, at], p, checks)])
+
+
+def next_horizon(watch: Watch, t0: float, checks: list[float], values: np.ndarray, horizon: float) -> float:
+    """How far the next IDAS call of a state-set model reaches: a quarter past where the state-set
+    indicators are predicted to cross, between an eighth and twice the last reach.
+
+    An indicator is 1 - SWITCH_RATIO * r (state_sets.switch_indicators), r the largest entry of
+    B^-1 A, which grows like the inverse of a coordinate going to zero (a pendulum's x at the
+    bottom): 1 / r falls about linearly there, so it is 1 / r that is extrapolated (from the last
+    quarter of the checks) to its value at the crossing, 1 / r = SWITCH_RATIO."""
+    rows = [i for i, (kind, _) in enumerate(watch.labels) if kind == "state set"]
+    grow = 2.0 * horizon
+    if not rows or len(checks) < 2:
+        return grow
+    times = np.concatenate([[t0], checks])
+    ratio = (1.0 - values[rows]) / SWITCH_RATIO
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inverse = np.where(ratio > 0, 1.0 / ratio, np.inf)
+    j = max(0, len(times) - 1 - len(checks) // 4)
+    with np.errstate(invalid="ignore"):
+        slope = (inverse[:, -1] - inverse[:, j]) / (times[-1] - times[j])
+    falling = (slope < 0) & np.isfinite(slope) & np.isfinite(inverse[:, -1])
+    if not falling.any():
+        return grow
+    gap = float(np.min((inverse[falling, -1] - SWITCH_RATIO) / -slope[falling]))
+    return float(np.clip(1.25 * gap, horizon / 8.0, grow))
+
+
+def first_crossing(model: CompiledModel, watch: Watch, t0, p, times, checks, segment, values):
+    """(check time after the crossing, check time before it, row) of the first watched function
+    that changes sign between two check times; None when none does."""
+    at = np.searchsorted(times, checks)
+    xs, zs = segment.xs[:, at], segment.zs[:, at]
+    before, after = values[:, :-1], values[:, 1:]
+    kinds = [kind for kind, _ in watch.labels]
+    events = np.array([k == "event" for k in kinds])[:, None]
+    crossed = np.where(events, (before > 0) != (after > 0), (before > 0) & ~(after > 0))
+    crossed &= np.isfinite(before)
+    # a single-row level's indicator is its quality test already (|pivot| against the largest
+    # alternative); a multi-row level's only proposes a switch, taken where the chosen block's
+    # smallest singular value is below SWITCH_RATIO times that of the block pivoting would choose
+    # (the determinant ratio behind the indicator depends on the columns' units)
+    rows_of = {what: i for i, (kind, what) in enumerate(watch.labels) if kind == "state set"}
+    multi = [rows_of[level] for level, spec in enumerate(model.state_sets)
+             if level in rows_of and int(spec["rows"]) > 1]
+    crossed[multi] = False
+    hits = list(np.nonzero(crossed.any(axis=0))[0])
+    proposed = list(np.nonzero((~(after[multi] > 0)).any(axis=0))[0]) if multi else []
+    proposed = [j for j in proposed if not hits or j < hits[0]]
+    if proposed:
+        at_checks = np.asarray(checks)[proposed]
+        polished = polish_algebraics(model, xs[:, proposed], zs[:, proposed], p, at_checks)
+        outputs = evaluate_outputs(model, xs[:, proposed], polished, p, at_checks)
+        for column, j in enumerate(proposed):
+            quality, level = state_selection_quality(model.state_sets, outputs[:, column])
+            if quality < SWITCH_RATIO and level in rows_of:
+                return float(checks[j]), float(t0 if j == 0 else checks[j - 1]), rows_of[level]
+    if not hits:
+        return None
+    j = int(hits[0])
+    row = int(np.nonzero(crossed[:, j])[0][0])
+    return float(checks[j]), float(t0 if j == 0 else checks[j - 1]), row
+
+
+def locate(add, integrator, watch: Watch, row: int, t_a: float, t_b: float, x_a, z_a, p):
+    """The crossing of watch row `row` in (t_a, t_b] by the Illinois method on short IDAS runs
+    from (t_a, x_a, z_a) (their counters go to `add`): the first time found on the far side, the point there and True; or t_b,
+    the point there and False when the run from t_a does not cross at all."""
+    def value_at(t):
+        if t == t_a:
+            return float(watch.values(np.asarray(x_a).reshape(-1, 1), np.asarray(z_a).reshape(-1, 1),
+                                      p, [t])[row, 0]), x_a, z_a
+        segment = integrator.run_to(t_a, t, x_a, z_a, p)
+        add(segment.counters)
+        xs, zs = segment.xs[:, -1], segment.zs[:, -1]
+        return float(watch.values(xs.reshape(-1, 1), zs.reshape(-1, 1), p, [t])[row, 0]), xs, zs
+
+    g_a, _, _ = value_at(t_a)
+    g_b, x_b, z_b = value_at(t_b)
+    if (g_b > 0) == (g_a > 0):
+        return t_b, x_b, z_b, False
+    lo, hi, g_lo, g_hi, side = t_a, t_b, g_a, g_b, 0
+    for _ in range(ROOT_ITERATIONS):
+        if hi - lo <= ROOT_TOLERANCE * max(1.0, abs(hi)):
+            break
+        guess = hi - g_hi * (hi - lo) / (g_hi - g_lo) if g_hi != g_lo else 0.5 * (lo + hi)
+        if not lo < guess < hi:
+            guess = 0.5 * (lo + hi)
+        g, x_g, z_g = value_at(guess)
+        if (g > 0) == (g_lo > 0):
+            lo, g_lo = guess, g
+            if side == -1:
+                g_hi *= 0.5                         # Illinois: keep the stale end from stalling
+            side = -1
+        else:
+            hi, g_hi, x_b, z_b = guess, g, x_g, z_g
+            if side == 1:
+                g_lo *= 0.5
+            side = 1
+    return hi, x_b, z_b, True

@@ -1,0 +1,56 @@
+"""A switch of the state set during a run: the variant the switcher picks at the crossing, the
+consistent point it continues from, the switch log entry; and how an IDAS failure of a model
+with state sets is explained."""
+from __future__ import annotations
+
+from typing import Mapping
+
+import numpy as np
+
+from .errors import SimulationFailed
+from .initialization import restart_point
+from .model import CompiledModel
+from .outputs import evaluate_outputs, polish_algebraics
+from .state_sets import state_selection_quality
+
+
+def explained(model: CompiledModel, failure: SimulationFailed) -> SimulationFailed:
+    """An IDAS failure of a model whose state set is monitored: name the constraints whose dummy
+    derivatives may have gone singular before the check could see it."""
+    if not model.state_sets:
+        return failure
+    sets = "; ".join(", ".join(level["candidates"]) for level in model.state_sets)
+    hint = (f"; the state set ({', '.join(model.state_names)}) of this model is chosen among the "
+            f"derivatives of its constraints ({sets}) and may have become singular here")
+    return SimulationFailed(str(failure) + hint, failure.time_reached, (failure.reason or "") + hint,
+                            failure.variable)
+
+
+def switch_state_set(run, model: CompiledModel, values: Mapping[str, float], t: float, p, x, z, level: int):
+    """Continue in the state set that the switcher chooses at this point."""
+    current = model.state_sets[level]
+    dummies = ", ".join(current["candidates"][j] for j in current["chosen"])
+    if run.switcher is None:
+        reason = (f"its state set ({', '.join(model.state_names)}) degrades here (the pivot block of "
+                  f"the dummy derivatives {dummies} is close to singular); this model carries one "
+                  f"state set: simulate it with dyadc, which switches state sets")
+        raise SimulationFailed(f"simulation of {model.name} stopped at t = {t:.10g}: {reason}", t, reason)
+    new = run.switcher.switch(model, values, t)
+    if new.state_names == model.state_names:
+        reason = "the state selection is singular here and no better one exists"
+        raise SimulationFailed(f"simulation of {model.name} failed at t = {t:.10g}: {reason}", t, reason)
+    column = np.array([values.get(n, np.nan) for n in model.output_names], dtype=float)
+    quality, _ = state_selection_quality(model.state_sets, column)
+    run.switches.append({"time": float(t), "from": list(model.state_names), "to": list(new.state_names),
+                         "degraded": dummies, "quality": float(quality)})
+    p_new = new.parameter_vector(run.options.params)
+    x_target = np.array([values[n] for n in new.state_names])
+    z_guess = np.array([values.get(n, 0.0) for n in new.algebraic_names])
+    point = restart_point(new, p_new, t, x_target, z_guess)
+    return new, point.x, point.z, p_new
+
+
+def all_outputs(model: CompiledModel, x, z, p, t: float) -> np.ndarray:
+    xs, zs = np.asarray(x).reshape(-1, 1), np.asarray(z).reshape(-1, 1)
+    zs = polish_algebraics(model, xs, zs, p, np.array([t]))
+    return evaluate_outputs(model, xs, zs, p, np.array([t]))[:, 0]
