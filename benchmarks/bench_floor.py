@@ -44,7 +44,7 @@ import casadi as ca  # noqa: E402
 
 from compiler import runtime  # noqa: E402
 from compiler.runtime import driver, integrator, outputs, watches  # noqa: E402
-from compiler.runtime.driver import with_clock  # noqa: E402
+from compiler.runtime.segments import with_clock  # noqa: E402
 from compiler.runtime.idas import integrator_options  # noqa: E402
 from compiler.runtime.watches import time_breakpoints  # noqa: E402
 
