@@ -45,6 +45,8 @@ def main(argv: list[str]) -> int:
     parser.add_argument("--only", default="", help="comma-separated problems (excavator, pendulum, swinging, andrews, robertson)")
     parser.add_argument("--no-compile", action="store_true", help="skip the compile-time measurements")
     parser.add_argument("--no-sweep", action="store_true", help="skip the sweep benchmark (bench_sweep.py)")
+    parser.add_argument("--no-accuracy", action="store_true",
+                        help="skip the state-selection accuracy table (bench_accuracy.py, docs/numerics.md)")
     parser.add_argument("--no-floor", action="store_true", help="skip the floor benchmark (bench_floor.py) and the "
                                                                 "matched-tip-error comparison")
     parser.add_argument("--out", default=str(ROOT / "docs"), help="folder for benchmarks.md (PNGs go to <out>/benchmarks/)")
@@ -99,6 +101,11 @@ def main(argv: list[str]) -> int:
         log("== sweep (serial vs LocalCluster, its table goes into sweeps.md)")
         import bench_sweep
         bench_sweep.main(["--samples", "40" if args.quick else "200", "--doc", str(out / "sweeps.md")])
+
+    if not args.no_accuracy:
+        log("== accuracy of dynamic state selection and error control (its table goes into numerics.md)")
+        import bench_accuracy
+        bench_accuracy.main((["--quick"] if args.quick else []) + ["--doc", str(out / "numerics.md")])
 
     elapsed = time.perf_counter() - began
     (out / "benchmarks.md").write_text(report.render(info, runs, compile_data, pngs, settings, elapsed, floor),
