@@ -87,3 +87,15 @@ def test_over_the_limit_the_model_carries_one_state_set_and_says_so(compilation)
         warnings.simplefilter("error")
         result = api.simulate_compiled(over, 2.0, rtol=1e-8, atol=1e-8, points=21)
     assert len(result.switches) >= 3
+
+
+def test_a_three_body_cartesian_chain_is_over_the_limit_and_says_how_far(tmp_path):
+    from tests.hard.cartesian_chain import dyad_source
+    path = tmp_path / "CartesianChain3.dyad"
+    path.write_text(dyad_source(3, [0.5, 0.5, 0.5]))
+    with pytest.warns(VariantLimitWarning, match=r"CartesianChain3 has [\d,]+ possible state sets, "
+                                                 r"more than the 64 compiled with it") as caught:
+        compiled = api.compile(str(path))
+    count = int(str(caught[0].message).split(" has ")[1].split(" ")[0].replace(",", ""))
+    assert count > 64                                 # 656 when written
+    assert compiled.dynamic and compiled.model.variants == {}
