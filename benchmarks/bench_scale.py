@@ -163,7 +163,8 @@ def linsol_table(rows: list[dict]) -> list[str]:
         cells = []
         for s in SOLVERS:
             v = r.get(s, {})
-            cells.append(f"{v['seconds']:.3f} ({v['deviation']:.0e})" if "seconds" in v else "failed")
+            cells.append(f"{v['seconds']:.3f} ({v['deviation']:.0e})" if "seconds" in v
+                         else "failed" if "failed" in v else "-")
         steps = "/".join(str(r[s]["steps"]) for s in ("qr", "gmres") if "steps" in r.get(s, {}))
         lines.append(f"| {r['n']} | {r['unknowns']} | {r['jacobian_nnz']} ({r['density']:.2f}) | "
                      + " | ".join(cells) + f" | {steps} |")
