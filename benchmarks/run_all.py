@@ -106,6 +106,8 @@ def main(argv: list[str]) -> int:
         log("== accuracy of dynamic state selection and error control (its table goes into numerics.md)")
         import bench_accuracy
         bench_accuracy.main((["--quick"] if args.quick else []) + ["--doc", str(out / "numerics.md")])
+        import bench_switching
+        bench_switching.main(["--repeats", str(settings["repeats"]), "--doc", str(out / "numerics.md")])
 
     elapsed = time.perf_counter() - began
     (out / "benchmarks.md").write_text(report.render(info, runs, compile_data, pngs, settings, elapsed, floor),

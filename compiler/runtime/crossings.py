@@ -20,7 +20,8 @@ def before_failure(watch, checks: list[float], failure: SimulationFailed, t: flo
     the failure came before the first check)."""
     if watch is None or failure.time_reached is None or not np.isfinite(failure.time_reached):
         return None
-    # IDAS reports the last output time it reached, which may be a check time: the run got there
+    # the failure time is where IDAS's last step ended (SUNDIALS's own message): every check up
+    # to it was passed
     before = [c for c in checks if t < c <= failure.time_reached]
     return before[-1] if before else None
 
