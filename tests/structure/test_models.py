@@ -348,6 +348,7 @@ def test_transistor_amplifier_is_index_1(transistor_amplifier):
 
 def test_switched_state_sets_are_built_once_and_kept_for_later_runs():
     compilation = api.compile("StructureModels.CartesianPendulumHigh", lib_dirs=(str(MODELS),))
+    compilation.model = compilation.model.replace(variants={})   # the lazy switcher (over the variant limit)
     api.simulate_compiled(compilation, 2.0, rtol=1e-6, atol=1e-6, points=201)
     built = dict(compilation.variant.siblings)
     assert set(built) == {("x", "u"), ("y", "v")}
@@ -363,7 +364,8 @@ def test_c_code_run_stays_in_c_code_in_every_state_set(tmp_path, monkeypatch):
     monkeypatch.setenv("DYADC_CACHE", str(tmp_path / "cache"))
     vm = api.compile("StructureModels.CartesianPendulumHigh", lib_dirs=(str(MODELS),))
     native = api.compile("StructureModels.CartesianPendulumHigh", lib_dirs=(str(MODELS),))
-    native.model = use_c_code(native.model)
+    vm.model = vm.model.replace(variants={})             # the lazy switcher (over the variant limit)
+    native.model = use_c_code(native.model.replace(variants={}))
     a = api.simulate_compiled(vm, 3.0, rtol=1e-8, atol=1e-8, points=301)
     b = api.simulate_compiled(native, 3.0, rtol=1e-8, atol=1e-8, points=301)
     assert len(b.stats["state_switches"]) >= 4
