@@ -148,12 +148,13 @@ UNCONTROLLED = 1e300     # an absolute tolerance that takes an unknown out of ID
 def error_controlled(model: CompiledModel) -> set[str]:
     """The algebraic unknowns that IDAS's error test controls besides the states: the dummy states
     of the index reduction (positions and velocities demoted from states, e.g. the dependent angles
-    of a mechanism) and their derivatives, named `v` with a `der(v)` in the model or `der(...)` of
-    one. Their errors are the states' errors amplified by the constraints (Andrews' squeezer at
-    rtol 1e-10: accelerations 4.7 significant digits without, 6.8 with, for 3.9x the steps).
-    Multipliers, forces and derivatives of states stay out: they follow the states, and their
-    kinks (contact forces) would make IDAS chase them (the excavator's accelerations in the test:
-    11x the steps at rtol 1e-6, 48x at 1e-8).
+    of a mechanism) and their first derivatives, named `v` with a `der(v)` in the model or
+    `der(v)` of one. Their errors are the states' errors amplified by the constraints (Andrews'
+    squeezer at rtol 1e-10: accelerations 4.7 significant digits without, 6.9 with, for 4x the
+    steps). Multipliers, forces, derivatives of states and second derivatives `der(der(...))` stay
+    out: they follow the states, and their kinks (contact forces) would make IDAS chase them (the
+    excavator's only candidates are the angular accelerations der(der(stick.body.phi)) and
+    der(der(bucket.body.phi)) of two dummy angles: 11x the steps at rtol 1e-6 with them).
 
     Not in a model that switches state sets: it switches before a dummy is amplified more than
     1 / SWITCH_RATIO = 2 times, and near a switch the dummies' error test is what degrades (the
@@ -168,4 +169,5 @@ def error_controlled(model: CompiledModel) -> set[str]:
             name = name[4:-1]
         return name
     return {n for n in model.algebraic_names
-            if root(n) not in states and (n.startswith("der(") or f"der({n})" in known)}
+            if root(n) not in states and not n.startswith("der(der(")
+            and (n.startswith("der(") or f"der({n})" in known)}
