@@ -30,6 +30,7 @@ from compiler.structure.indexed import IndexedSystem
 from compiler.structure.reduce import Analysis, StructureReport, reduce
 
 VARIANT_LIMIT = 64
+_TRIES = 5_000           # subsets looked at before giving up (most are singular in a long chain)
 _COUNT_LIMIT = 1_000       # how far an over-the-limit model's variants are counted (100,000 took 6 s)
 
 
@@ -37,13 +38,18 @@ class VariantLimitWarning(UserWarning):
     """A model has more possible state sets than are compiled ahead of time."""
 
 
-def possible_choices(flat: FlatSystem, system: IndexedSystem,
-                     levels: list[SelectionLevel]) -> Iterator[frozenset[str]]:
+class TooManyToList(Exception):
+    """The possible state sets were not all found within the subsets looked at."""
+
+
+def possible_choices(flat: FlatSystem, system: IndexedSystem, levels: list[SelectionLevel],
+                     tries: int = _TRIES) -> Iterator[frozenset[str]]:
     """Every dummy-derivative set (names) the runtime's choice can make: on each level, the columns
     that pivoting takes from the leading priority classes whose Jacobian is constant (computed
     here, at the parameters' defaults), completed by every set of later columns that makes the
-    level's block structurally regular."""
+    level's block structurally regular. Raises TooManyToList after looking at `tries` subsets."""
     constant = _constant_entries(flat, system)
+    budget = [tries]
 
     def walk(k: int, candidates: set[int], dummies: tuple[int, ...]):
         if k == len(levels):
@@ -53,6 +59,9 @@ def possible_choices(flat: FlatSystem, system: IndexedSystem,
         order = [v for v in level.order if v in candidates]
         fixed, rest = _constant_prefix_choice(system, level, order, constant)
         for subset in itertools.combinations(rest, len(level.rows) - len(fixed)):
+            budget[0] -= 1
+            if budget[0] < 0:
+                raise TooManyToList
             if _structurally_regular(system, level.rows, fixed + list(subset)):
                 chosen = fixed + list(subset)
                 following = {level.next[v] for v in chosen if v in level.next}
@@ -145,10 +154,16 @@ def with_variants(flat: FlatSystem, analysis: Analysis, root: Variant,
     unchanged, with a VariantLimitWarning, when there are more than `limit`."""
     system = analysis.system
     levels = selection_levels(system, _priority_function(analysis))
-    choices = list(itertools.islice(possible_choices(flat, system, levels), limit + 1))
-    if len(choices) > limit:
-        count = sum(1 for _ in itertools.islice(possible_choices(flat, system, levels), _COUNT_LIMIT + 1))
-        counted = f"more than {_COUNT_LIMIT:,}" if count > _COUNT_LIMIT else f"{count:,}"
+    try:
+        choices = list(itertools.islice(possible_choices(flat, system, levels), limit + 1))
+    except TooManyToList:
+        choices = None
+    if choices is None or len(choices) > limit:
+        try:
+            count = sum(1 for _ in itertools.islice(possible_choices(flat, system, levels), _COUNT_LIMIT + 1))
+            counted = f"more than {_COUNT_LIMIT:,}" if count > _COUNT_LIMIT else f"{count:,}"
+        except TooManyToList:
+            counted = f"more than {limit}"
         warnings.warn(f"model {flat.name} has {counted} possible state sets, more than the {limit} "
                       f"compiled with it: generated code and --codegen c carry its first state set "
                       f"only; the in-process run still builds the ones it reaches when it reaches "
