@@ -347,14 +347,17 @@ def test_transistor_amplifier_is_index_1(transistor_amplifier):
 
 
 def test_switched_state_sets_are_built_once_and_kept_for_later_runs():
+    # every state set is derived at compile time and carried by the compiled model (issue 16
+    # item 5): runs switch among those objects and build none
     compilation = api.compile("StructureModels.CartesianPendulumHigh", lib_dirs=(str(MODELS),))
-    compilation.model = compilation.model.replace(variants={})   # the lazy switcher (over the variant limit)
-    api.simulate_compiled(compilation, 2.0, rtol=1e-6, atol=1e-6, points=201)
-    built = dict(compilation.variant.siblings)
-    assert set(built) == {("x", "u"), ("y", "v")}
+    carried = dict(compilation.model.variants)
+    sets = {tuple(m.state_names) for m in carried.values()} | {tuple(compilation.model.state_names)}
+    assert {("x", "u"), ("y", "v")} <= sets
+    first = api.simulate_compiled(compilation, 2.0, rtol=1e-6, atol=1e-6, points=201)
     again = api.simulate_compiled(compilation, 2.0, rtol=1e-6, atol=1e-6, points=201)
     assert again.stats["state_switches"]
-    assert all(compilation.variant.siblings[k] is v for k, v in built.items())
+    assert [s["time"] for s in again.stats["state_switches"]] == [s["time"] for s in first.stats["state_switches"]]
+    assert all(compilation.model.variants[k] is v for k, v in carried.items())
 
 
 @pytest.mark.skipif(__import__("compiler.lower.ccodegen", fromlist=["x"]).find_compiler() is None,
@@ -364,11 +367,10 @@ def test_c_code_run_stays_in_c_code_in_every_state_set(tmp_path, monkeypatch):
     monkeypatch.setenv("DYADC_CACHE", str(tmp_path / "cache"))
     vm = api.compile("StructureModels.CartesianPendulumHigh", lib_dirs=(str(MODELS),))
     native = api.compile("StructureModels.CartesianPendulumHigh", lib_dirs=(str(MODELS),))
-    vm.model = vm.model.replace(variants={})             # the lazy switcher (over the variant limit)
-    native.model = use_c_code(native.model.replace(variants={}))
+    native.model = use_c_code(native.model)
     a = api.simulate_compiled(vm, 3.0, rtol=1e-8, atol=1e-8, points=301)
     b = api.simulate_compiled(native, 3.0, rtol=1e-8, atol=1e-8, points=301)
     assert len(b.stats["state_switches"]) >= 4
-    assert {v.model.metadata.get("codegen") for v in native.variant.siblings.values()} == {"c"}
+    assert {v.metadata.get("codegen") for v in native.model.variants.values()} == {"c"}
     # same equations, different evaluation order: agreement far inside the tolerance's error
     assert np.max(np.abs(a["x"] - b["x"])) < 1e-9
