@@ -360,6 +360,18 @@ def test_switched_state_sets_are_built_once_and_kept_for_later_runs():
     assert all(compilation.model.variants[k] is v for k, v in carried.items())
 
 
+def test_without_carried_variants_the_lazy_switcher_builds_each_state_set_once():
+    # a model over the variant limit carries none: the in-process run builds what it reaches
+    compilation = api.compile("StructureModels.CartesianPendulumHigh", lib_dirs=(str(MODELS),))
+    compilation.model = compilation.model.replace(variants={})
+    api.simulate_compiled(compilation, 2.0, rtol=1e-6, atol=1e-6, points=201)
+    built = dict(compilation.variant.siblings)
+    assert set(built) == {("x", "u"), ("y", "v")}
+    again = api.simulate_compiled(compilation, 2.0, rtol=1e-6, atol=1e-6, points=201)
+    assert again.stats["state_switches"]
+    assert all(compilation.variant.siblings[k] is v for k, v in built.items())
+
+
 @pytest.mark.skipif(__import__("compiler.lower.ccodegen", fromlist=["x"]).find_compiler() is None,
                     reason="no C compiler")
 def test_c_code_run_stays_in_c_code_in_every_state_set(tmp_path, monkeypatch):
