@@ -354,9 +354,17 @@ def _print_final(result, names) -> None:
         print(f"{n:<{width}}  {result[n][-1]:.10g}")
 
 
+def _warning_line(message, category, filename, lineno, file=None, line=None) -> None:
+    """Warnings reach a user of the command line as `warning: ...` lines, not as Python's
+    file:line report of where in dyadc they were raised."""
+    print(f"warning: {message}", file=file or sys.stderr)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
+    import warnings
+    warnings.showwarning = _warning_line
     try:
         from compiler import cli_options
         from compiler.model.size_limits import element_limit

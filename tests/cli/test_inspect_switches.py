@@ -39,3 +39,15 @@ def test_inspect_refuses_a_bad_stop_time_clearly():
     done = dyadc("inspect", "-L", MODELS, "Hard.PendulumA01", "--stop", "nan")
     assert done.returncode != 0
     assert "Traceback" not in done.stderr and "error" in done.stderr.lower()
+
+
+def test_a_compile_warning_is_a_plain_warning_line(tmp_path):
+    # a 3-body Cartesian chain has more possible state sets than are compiled with a model
+    from tests.hard import cartesian_chain
+    path = tmp_path / "CartesianChain3.dyad"
+    path.write_text(cartesian_chain.dyad_source(3, [1.3] * 3), encoding="utf-8")
+    done = dyadc("simulate", f"{path}:CartesianChain3", "--stop", 0.01, "--output", tmp_path / "out.csv")
+    assert done.returncode == 0, done.stderr
+    lines = [line for line in done.stderr.splitlines() if "possible state sets" in line]
+    assert lines and all(line.startswith("warning: model CartesianChain3 has") for line in lines)
+    assert "VariantLimitWarning" not in done.stderr and ".py:" not in done.stderr
