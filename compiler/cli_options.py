@@ -31,16 +31,8 @@ def max_output_values(option: int | None) -> int:
         if option < 1:
             raise DyadError(f"--max-output-values must be at least 1, got {option}")
         return option
-    text = os.environ.get(MAX_OUTPUT_VALUES_ENV)
-    if text is None:
-        return DEFAULT_MAX_OUTPUT_VALUES
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if value < 1:
-        raise DyadError(f"${MAX_OUTPUT_VALUES_ENV} must be a positive integer, got `{text}`")
-    return value
+    from compiler.model.size_limits import positive_integer_setting
+    return positive_integer_setting(MAX_OUTPUT_VALUES_ENV, DEFAULT_MAX_OUTPUT_VALUES)
 
 
 def check_arguments(argv: list[str]) -> None:

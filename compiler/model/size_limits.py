@@ -48,15 +48,21 @@ def max_elements() -> int:
     configured = _configured.get()
     if configured is not None:
         return configured
-    text = os.environ.get(MAX_ELEMENTS_ENV)
+    return positive_integer_setting(MAX_ELEMENTS_ENV, DEFAULT_MAX_ELEMENTS)
+
+
+def positive_integer_setting(variable: str, default: int) -> int:
+    """The positive integer in the environment variable `variable`, else `default`; anything else
+    there is a clear error."""
+    text = os.environ.get(variable)
     if text is None:
-        return DEFAULT_MAX_ELEMENTS
+        return default
     try:
         value = int(text)
     except ValueError:
         value = 0
     if value < 1:
-        raise DyadError(f"${MAX_ELEMENTS_ENV} must be a positive integer, got `{text}`")
+        raise DyadError(f"${variable} must be a positive integer, got `{text}`")
     return value
 
 

@@ -217,7 +217,7 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
                 reach = end
             checks = [] if watch is None else list(np.linspace(t, reach, CHECKS_PER_SEGMENT + 1)[1:])
             step0 = first_step(integrator, x, z, p, t, reach)
-        outputs, m = segment_times(grid, k, reach, inclusive=True)
+        outputs, m = segment_times(grid, k, reach)
         times = sorted(set(outputs) | set(checks))
         try:
             # every run starts from a point that solves the algebraic equations already (the

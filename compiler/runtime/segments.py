@@ -54,10 +54,10 @@ def with_clock(model: CompiledModel, p: np.ndarray, t_a: float, t_b: float) -> n
     return p
 
 
-def segment_times(grid: np.ndarray, k: int, end: float, inclusive: bool) -> tuple[list[float], int]:
-    """The output times from grid index k up to `end` (IDAS's grid for the segment, ending at
-    `end`), and how many of them are grid points."""
-    upto = np.searchsorted(grid, end, side="right" if inclusive else "left")
+def segment_times(grid: np.ndarray, k: int, end: float) -> tuple[list[float], int]:
+    """The output times from grid index k up to `end`, inclusive (IDAS's grid for the segment,
+    ending at `end`), and how many of them are grid points."""
+    upto = np.searchsorted(grid, end, side="right")
     times = [float(v) for v in grid[k:upto]]
     assert not times or times[0] > grid[k - 1], "output times run backwards"
     m = len(times)
