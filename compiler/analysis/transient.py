@@ -20,7 +20,7 @@ from typing import Any, Mapping
 
 from compiler.analysis.expressions import number, substitute, text
 from compiler.errors import DyadError, Span, suggest_name
-from compiler.model.library import Library, Resolved, qualify
+from compiler.model.library import Library, Resolved, parse_spec_file, qualify, split_file_spec
 from compiler.syntax import ast
 
 TRANSIENT = "TransientAnalysis"
@@ -61,17 +61,9 @@ class _Collected:
 
 def find_analysis(spec: str, library: Library) -> Resolved:
     """`path/File.dyad:Name`, `path/File.dyad` (its one non-partial analysis) or `Pkg.Name`."""
-    from pathlib import Path
-    file_part, _, name = spec.partition(":") if ".dyad:" in spec else (spec, "", "")
+    file_part, name = split_file_spec(spec)
     if file_part.endswith(".dyad"):
-        path = Path(file_part)
-        if not path.is_file():
-            raise DyadError(f"file `{file_part}` not found")
-        package = library.package_of_file(path)
-        if package is None:
-            library.add_source_root(path.resolve().parent)
-            package = ""
-        parsed = library.parse(path)
+        parsed, package = parse_spec_file(file_part, library)
         analyses = [d for d in parsed.definitions if isinstance(d, ast.AnalysisDef)]
         chosen = [d for d in analyses if d.name == name] if name else \
             [d for d in analyses if not d.partial]

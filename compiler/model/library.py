@@ -310,19 +310,31 @@ def load_model(spec: str, lib_dirs: Sequence[str] = (), *,
     return library, resolved.definition, resolved.qualified_name
 
 
-def resolve_model(spec: str, library: Library) -> Resolved:
+def split_file_spec(spec: str) -> tuple[str, str]:
+    """`path/File.dyad:Name` -> (path/File.dyad, Name); any other spec -> (spec, "")."""
     file_part, _, name = spec.partition(":") if ".dyad:" in spec else (spec, "", "")
+    return file_part, name
+
+
+def parse_spec_file(file_part: str, library: Library, what: str = "file"):
+    """The parsed source file a spec names and its package ("" outside the library path, whose
+    folder is then searched for sibling sources, though its Python is not run: only folders the
+    user named run code)."""
+    path = Path(file_part)
+    if not path.is_file():
+        raise DyadError(f"{what} `{file_part}` not found")
+    package = library.package_of_file(path)
+    if package is None:
+        library.add_source_root(path.resolve().parent)
+        package = ""
+    return library.parse(path), package
+
+
+def resolve_model(spec: str, library: Library) -> Resolved:
+    file_part, name = split_file_spec(spec)
     if file_part.endswith(".dyad"):
         path = Path(file_part)
-        if not path.is_file():
-            raise DyadError(f"model file `{file_part}` not found")
-        package = library.package_of_file(path)
-        if package is None:
-            # A file outside the library path: its folder is searched for sibling sources, but
-            # its Python is not run (only folders the user named run code).
-            library.add_source_root(path.resolve().parent)
-            package = ""
-        parsed = library.parse(path)
+        parsed, package = parse_spec_file(file_part, library, "model file")
         components = [d for d in parsed.definitions if isinstance(d, ast.ComponentDef)]
         if name:
             chosen = [d for d in components if d.name == name]
