@@ -44,6 +44,7 @@ def eliminate_aliases(flat: FlatSystem) -> AliasResult:
     equations = list(flat.equations)
     residuals = [eq.residual for eq in equations]
     alive = [True] * len(equations)
+    rejected = [False] * len(equations)
 
     def is_constant(expr: sympy.Expr) -> bool:
         return all(s in parameter_symbols for s in free_symbols(expr))
@@ -59,15 +60,19 @@ def eliminate_aliases(flat: FlatSystem) -> AliasResult:
             return None
         if not residual.is_Add and len(unknowns) == 1 and residual == unknowns[0]:
             return unknowns[0], sympy.Integer(0)
-        coefficients = {}
-        rest = residual
-        for s in unknowns:
-            c = residual.coeff(s)
-            if not c.is_number or c == 0:
-                return None
-            coefficients[s] = c
-            rest = rest - c * s
-        rest = sympy.expand(rest) if free_symbols(rest) & set(unknowns) else rest
+        found = _linear_terms(residual, unknowns)
+        if found is not None:
+            coefficients, rest = found
+        else:
+            coefficients = {}
+            rest = residual
+            for s in unknowns:
+                c = residual.coeff(s)
+                if not c.is_number or c == 0:
+                    return None
+                coefficients[s] = c
+                rest = rest - c * s
+            rest = sympy.expand(rest) if free_symbols(rest) & set(unknowns) else rest
         if free_symbols(rest) & set(unknowns) or not is_constant(rest):
             return None
         if len(unknowns) == 1:
@@ -114,8 +119,11 @@ def eliminate_aliases(flat: FlatSystem) -> AliasResult:
             if symbols & mapping.keys() or symbols & derivative_mapping.keys():
                 residual = _resolve(residual, mapping, derivative_mapping)
                 residuals[i] = residual
+            elif rejected[i]:
+                continue            # unchanged since classify said no: it says no again
             found = classify(residual)
             if found is None:
+                rejected[i] = True
                 continue
             sym, expr = found
             eliminate(sym, expr)
@@ -146,3 +154,30 @@ def _resolve(expr: sympy.Expr, mapping: dict, derivative_mapping: dict) -> sympy
             return expr
         expr = expr.xreplace(hit)
     raise RuntimeError("alias chain does not terminate")
+
+
+def _linear_terms(residual: sympy.Expr, unknowns: list[sympy.Symbol]):
+    """The common case of classify without `coeff`: `residual` is an Add in which every unknown
+    is one whole term `s` or `number * s` and occurs nowhere else. Returns (coefficients, rest)
+    equal to what the general path computes (`rest` is the Add of the other terms: the same
+    canonical sum as `residual - c * s`), or None for anything else."""
+    if not residual.is_Add:
+        return None
+    coefficients = {}
+    others = []
+    for term in residual.args:
+        if term.is_Symbol and term in unknowns:
+            coefficient, symbol = sympy.S.One, term
+        elif term.is_Mul and len(term.args) == 2 and term.args[0].is_Number and term.args[1] in unknowns:
+            coefficient, symbol = term.args
+        else:
+            if not free_symbols(term).isdisjoint(unknowns):
+                return None
+            others.append(term)
+            continue
+        if symbol in coefficients or coefficient == 0:
+            return None
+        coefficients[symbol] = coefficient
+    if len(coefficients) != len(unknowns):
+        return None
+    return coefficients, sympy.Add(*others)
