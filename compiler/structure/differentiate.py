@@ -25,9 +25,10 @@ _free_memo: dict[sympy.Basic, frozenset] = {}
 
 def partial(expr: sympy.Expr, symbol: sympy.Symbol) -> sympy.Expr:
     """d expr / d symbol, structurally equal to `sympy.diff(expr, symbol)`."""
-    if len(_memo) > _MEMO_LIMIT or len(_free_memo) > _MEMO_LIMIT:
+    if max(len(_memo), len(_free_memo), len(_finite_memo)) > _MEMO_LIMIT:
         _memo.clear()
         _free_memo.clear()
+        _finite_memo.clear()
     return _partial(expr, symbol)
 
 
@@ -67,9 +68,12 @@ def _derive(expr: sympy.Expr, symbol: sympy.Symbol) -> sympy.Expr:
     if kind is sympy.Mul:                    # Mul._eval_derivative_n_times with n = 1 (Leibniz)
         args = expr.args
         terms = []
+        finite = _finite(expr)
         for orders, coefficient in multinomial_coefficients_iterator(len(args), 1):
-            product = sympy.Mul(*[_partial(a, symbol) if k else a for k, a in zip(orders, args)])
-            terms.append(coefficient * product)
+            factors = [_partial(a, symbol) if k else a for k, a in zip(orders, args)]
+            if finite and any(f is sympy.S.Zero for f in factors):
+                continue                     # 1 * Mul(..., 0, ...) is 0, which Add drops
+            terms.append(coefficient * sympy.Mul(*factors))
         return sympy.Add(*terms)
     if kind is sympy.Pow:                    # Pow._eval_derivative
         base, exponent = expr.base, expr.exp
@@ -93,6 +97,22 @@ def _derive(expr: sympy.Expr, symbol: sympy.Symbol) -> sympy.Expr:
     return sympy.diff(expr, symbol)
 
 
+_INFINITE = (sympy.S.NaN, sympy.S.ComplexInfinity, sympy.S.Infinity, sympy.S.NegativeInfinity)
+_finite_memo: dict[sympy.Basic, bool] = {}
+
+
+def _finite(expr: sympy.Basic) -> bool:
+    """No nan or infinity anywhere in `expr`: then 0 times any factor of it is 0 (0 * oo is nan)."""
+    found = _finite_memo.get(expr)
+    if found is None:
+        if expr.args:
+            found = all(_finite(a) for a in expr.args)
+        else:
+            found = not any(expr is s for s in _INFINITE)
+        _finite_memo[expr] = found
+    return found
+
+
 _PLAIN: dict[type, bool] = {}
 
 
@@ -104,7 +124,13 @@ def _plain_function(kind: type) -> bool:
                  and kind._eval_derivative is Function._eval_derivative
                  and kind._eval_derivative_n_times is Basic._eval_derivative_n_times
                  and kind.fdiff is not Function.fdiff
-                 and kind.free_symbols is Basic.free_symbols)
+                 and _class_attribute(kind, "free_symbols") is Basic.__dict__["free_symbols"])
         _PLAIN[kind] = plain
     return plain
 
+
+
+def _class_attribute(kind: type, name: str):
+    """The attribute `name` as the class defines it for its instances (`kind.free_symbols` would
+    be the property of sympy's metaclass FunctionClass, not the one instances use)."""
+    return next((c.__dict__[name] for c in kind.__mro__ if name in c.__dict__), None)

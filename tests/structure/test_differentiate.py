@@ -20,6 +20,7 @@ EXPRESSIONS = [
     sympy.Piecewise((x ** 2, x > 0), (y, True)), sympy.Heaviside(x - 1) * y, x * sympy.oo + y,
     sympy.Function("f")(x, y), sympy.Function("g")(x * y) + x, sympy.floor(x) * x,
     sympy.cos(x) ** 2 * sympy.sin(y) ** 3 / (1 + z), (x + y) ** -2 * (x - y), 2.5 * x * t - sympy.Rational(3, 7) * y,
+    (x + sympy.oo) * y * z, sympy.zoo * x * sympy.sin(y), 2.5 * x * sympy.exp(y * z) * sympy.atan2(z, t),
 ]
 
 
