@@ -60,6 +60,31 @@ def next_horizon(watch: Watch, t0: float, checks: list[float], values: np.ndarra
     return float(np.clip(1.25 * gap, horizon / 8.0, grow))
 
 
+PERIOD_MATCH = 0.05       # relative agreement of the switch intervals of two repetitions
+LONGEST_PERIOD = 8        # switches per period that are looked for
+MARGIN_PERIODIC = 1.05    # reach past a stay predicted from a repeating pattern of switches
+MARGIN_SAME_SET = 1.25    # past the last stay in the same state set (no pattern found)
+
+
+def predicted_stay(intervals: list[float], last_in_set: float | None) -> float:
+    """How far the first IDAS call after a state-set switch reaches: a little past the predicted
+    time to the next switch. An oscillation switches in a repeating pattern (a pendulum released
+    near the top: four switches per period, stays of 0.29, 0.24, 0.45 and 1.3 s), so where the
+    last k intervals repeat the k before them, the next one is predicted to repeat the interval k
+    back; otherwise a quarter more than the last stay in this state set (or the shortest recent
+    interval). Each call that ends short costs a restart; each step past the switch is lost."""
+    n = len(intervals)
+    for k in range(1, LONGEST_PERIOD + 1):
+        if n < 2 * k:
+            break
+        recent, before = np.asarray(intervals[n - k:]), np.asarray(intervals[n - 2 * k:n - k])
+        if np.all(np.abs(recent - before) <= PERIOD_MATCH * np.maximum(recent, before)):
+            return MARGIN_PERIODIC * intervals[n - k]
+    if last_in_set is not None:
+        return MARGIN_SAME_SET * last_in_set
+    return min(intervals[-2:])
+
+
 def first_crossing(model: CompiledModel, watch: Watch, t0, p, times, checks, segment, values):
     """(check time after the crossing, check time before it, row) of the first watched function
     that changes sign between two check times; None when none does."""

@@ -17,7 +17,7 @@ import numpy as np
 
 from . import interrupts
 from .checks import bound_violation, check_divergence, state_scales
-from .crossings import before_failure, first_crossing, locate, next_horizon, watched_values
+from .crossings import before_failure, first_crossing, locate, next_horizon, predicted_stay, watched_values
 from .errors import SimulationFailed, SimulationInterrupted
 from .idas import integrator_options
 from .initialization import consistent_initialization
@@ -71,7 +71,7 @@ class _Run:
         # an indicator that hovers near zero without crossing must not shrink the calls for ever
         self.shortest_reach = (options.stop - options.start) / MOST_CHUNKS
         self.last_switch = options.start
-        self.intervals: list[float] = []         # between the recent state-set switches
+        self.intervals: list[float] = []         # between the state-set switches so far
         self.durations: dict[tuple, float] = {}  # how long the run last stayed in each state set
 
     def integrator(self, model: CompiledModel):
@@ -304,11 +304,11 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
             run.durations[tuple(model.state_names)] = t_cross - run.last_switch
             model, x, z, p = switch_state_set(run, model, values, t_cross, p, x_cross, z_cross, what)
             scale = state_scales(model, x)        # other states: their scale from the switch point
-            # the run is likely to stay in this state set about as long as it did last time (an
-            # oscillation), and every call that ends before the next switch costs a restart
-            run.intervals = (run.intervals + [t_cross - run.last_switch])[-2:]
-            last_time = run.durations.get(tuple(model.state_names))
-            run.horizon = 1.25 * last_time if last_time is not None else min(run.intervals)
+            # every call that ends before the next switch costs a restart, and every step past
+            # it is thrown away: predict the stay in this state set from the switches so far
+            run.intervals.append(t_cross - run.last_switch)
+            run.horizon = max(predicted_stay(run.intervals, run.durations.get(tuple(model.state_names))),
+                              run.shortest_reach)
             run.last_switch = t_cross
         t = t_cross
         progress.update(t)
