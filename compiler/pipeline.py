@@ -11,6 +11,8 @@ import warnings
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Sequence
 
+from compiler.structure.collection import fewer_collections      # gc thresholds only: imports nothing heavy
+
 if TYPE_CHECKING:
     from compiler.cache.models import CachedCompilation
     from compiler.model.flat import FlatSystem
@@ -51,6 +53,7 @@ def flatten_spec(spec: str, lib_dirs: Sequence[str] = (), *,
     return flat, {"parse+flatten": time.perf_counter() - began}
 
 
+@fewer_collections()
 def compile_flat(flat: FlatSystem, timings: dict[str, float] | None = None) -> Compilation:
     from compiler.lower.state_set_enumeration import with_variants
     from compiler.lower.state_set_variants import build_variant, monitored_levels

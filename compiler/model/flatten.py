@@ -20,6 +20,7 @@ from compiler.model.flatten_report import format_flat, summarize  # noqa: F401  
 from compiler.model.instantiate import Instance, Model, ParameterInstance, VariableInstance, instantiate
 from compiler.model.size_limits import check_elements
 from compiler.model.library import Library, Resolved, load_model, resolve_model  # noqa: F401
+from compiler.structure.collection import fewer_collections
 from compiler.syntax import ast
 
 
@@ -30,6 +31,7 @@ def flatten_model(spec: str, lib_dirs: Sequence[str] = ()) -> FlatSystem:
     return flatten_resolved(resolve_model(spec, library), library)
 
 
+@fewer_collections()
 def flatten_resolved(resolved: Resolved, library: Library) -> FlatSystem:
     return Flattener(instantiate(resolved, library)).run()
 
