@@ -5,8 +5,9 @@ in-process run does, with the runtime only (compiler/runtime/variants.py).
 The runtime's choice at a switch point (variants.dummy_choice, the compiler's dummy-derivative
 selection made again) takes, level by level, a set of columns whose block is regular there. Which
 sets a point can give is not known in advance, so every set whose block is structurally regular is
-a possible choice; their product over the levels (each level's candidates follow from the choice
-one level up) is the list of variants. Each one is built once (reduce with the choice forced, then
+a possible choice, less those pivoting provably never makes (a column it always takes, see
+always_chosen, left out); their product over the levels (each level's candidates follow from the
+choice one level up) is the list of variants. Each one is built once (reduce with the choice forced, then
 build_variant); beyond VARIANT_LIMIT the model carries none, with a warning, and the in-process run
 builds the state sets it reaches lazily (state_set_variants.Switcher), as before.
 """
@@ -58,6 +59,11 @@ def possible_choices(flat: FlatSystem, system: IndexedSystem, levels: list[Selec
         level = levels[k]
         order = [v for v in level.order if v in candidates]
         fixed, rest = _constant_prefix_choice(system, level, order, constant)
+        always = always_chosen(system, level, order)
+        if any(v not in fixed and v not in rest for v in always):
+            return                     # a column that must be taken was passed over: no choice here
+        fixed = fixed + [v for v in rest if v in always]
+        rest = [v for v in rest if v not in always]
         for subset in itertools.combinations(rest, len(level.rows) - len(fixed)):
             budget[0] -= 1
             if budget[0] < 0:
@@ -68,6 +74,49 @@ def possible_choices(flat: FlatSystem, system: IndexedSystem, levels: list[Selec
                 yield from walk(k + 1, following, dummies + tuple(chosen))
     if levels:
         yield from walk(0, set(levels[0].order), ())
+
+
+def always_chosen(system: IndexedSystem, level: SelectionLevel, order: list[int]) -> set[int]:
+    """Columns that are in every full choice pivoting (`pivoted_columns`) can make over `order`.
+
+    Column u is when a row r has exactly two candidate entries, u's and w's, both numbers (no
+    symbol, so for every point and parameter value), w has no other entry on the level, |u_r| >=
+    |w_r|, and u is not behind w in the order of preference (an earlier priority class, or the same
+    class and either |u_r| > |w_r| or u first). Such rows are the derivatives of aliases such as
+    der(x) = vx: der(der(x)) - der(vx) = 0. Why: until u or w is taken, no taken column touches row
+    r, so w's part orthogonal to them is |w_r| and u's at least |u_r|; pivoting therefore never
+    takes w while u is left (ties go to the earlier column), and w's part never exceeds the
+    threshold where u's did not, while a full choice covers row r with u or w."""
+    position = {v: j for j, v in enumerate(order)}
+    rows_of = {v: [e for e in level.rows if v in system.incidence[e]] for v in order}
+    always = set()
+    for r in level.rows:
+        entries = [v for v in order if v in system.incidence[r]]
+        if len(entries) != 2:
+            continue
+        for u, w in (entries, entries[::-1]):
+            if rows_of[w] != [r]:
+                continue
+            u_r, w_r = _number(system, r, u), _number(system, r, w)
+            if u_r is None or w_r is None or w_r == 0:
+                continue
+            pu, pw = level.priority[u], level.priority[w]
+            if pu < pw or (pu == pw and (abs(u_r) > abs(w_r)
+                                         or (abs(u_r) == abs(w_r) and position[u] < position[w]))):
+                always.add(u)
+    return always
+
+
+def _number(system: IndexedSystem, e: int, v: int) -> float | None:
+    """d equation / d unknown where it is a plain finite number (no symbol at all), else None."""
+    derivative = partial(system.equations[e], system.symbols[v])
+    if derivative.free_symbols:
+        return None
+    try:
+        value = float(derivative)
+    except (TypeError, ValueError):
+        return None
+    return value if np.isfinite(value) else None
 
 
 def _constant_entries(flat: FlatSystem, system: IndexedSystem):
