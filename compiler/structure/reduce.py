@@ -139,6 +139,7 @@ def select_states(system: IndexedSystem, priorities: dict[str, int], flat: FlatS
 def _numeric_jacobian(system: IndexedSystem, flat: FlatSystem, point: dict[str, float]):
     values = {sympy.Symbol(k): v for k, v in point.items()}
     values.update({sympy.Symbol(p.name): p.value for p in flat.parameters if p.value is not None})
+    substitute = _shared_xreplace(values)
 
     def jacobian(rows: list[int], cols: list[int]) -> np.ndarray:
         out = np.zeros((len(rows), len(cols)))
@@ -150,7 +151,7 @@ def _numeric_jacobian(system: IndexedSystem, flat: FlatSystem, point: dict[str, 
                     continue
                 coefficient = partial(system.equations[e], system.symbols[v])
                 try:
-                    out[i, j] = float(coefficient.xreplace(values))
+                    out[i, j] = float(substitute(coefficient))
                 except (TypeError, ValueError):
                     out[i, j] = np.nan
         if np.isnan(out).any():
@@ -158,6 +159,30 @@ def _numeric_jacobian(system: IndexedSystem, flat: FlatSystem, point: dict[str, 
         return out
 
     return jacobian
+
+
+def _shared_xreplace(rule: dict):
+    """`expr.xreplace(rule)` (the same rebuild, node by node), remembering every subtree's result:
+    the coefficients of one equation share most of their subtrees (sin(phi) * r, ...), and
+    evaluating them in floats through sympy is the costly part of the numeric Jacobian."""
+    done: dict[sympy.Basic, tuple[object, bool]] = {}
+
+    def replace(expr) -> tuple[object, bool]:
+        found = done.get(expr)
+        if found is None:
+            if expr in rule:
+                found = (rule[expr], True)
+            else:
+                args, changed = [], False
+                for arg in expr.args:
+                    new, arg_changed = replace(arg) if isinstance(arg, sympy.Basic) else (arg, False)
+                    args.append(new)
+                    changed |= arg_changed
+                found = (expr.func(*args), True) if changed else (expr, False)
+            done[expr] = found
+        return found
+
+    return lambda expr: replace(expr)[0]
 
 
 def _priorities(flat: FlatSystem, alias: AliasResult) -> dict[str, int]:
