@@ -77,7 +77,7 @@ def eliminate_aliases(flat: FlatSystem) -> AliasResult:
             return None
         if len(unknowns) == 1:
             s = unknowns[0]
-            return s, -rest / coefficients[s]
+            return s, _divide(-rest, coefficients[s])
         a, b = unknowns
         if abs(coefficients[a]) != abs(coefficients[b]):
             return None
@@ -85,7 +85,7 @@ def eliminate_aliases(flat: FlatSystem) -> AliasResult:
         key_a = _preference(variables[var_symbols[a]], has_der[var_symbols[a]])
         key_b = _preference(variables[var_symbols[b]], has_der[var_symbols[b]])
         elim, keep = (a, b) if key_a > key_b else (b, a)
-        return elim, -(coefficients[keep] * keep + rest) / coefficients[elim]
+        return elim, _divide(-_add(_multiply(coefficients[keep], keep), rest), coefficients[elim])
 
     derivative_mapping: dict[sympy.Symbol, sympy.Expr] = {}
     new_derivatives: dict[str, str] = {}
@@ -95,7 +95,7 @@ def eliminate_aliases(flat: FlatSystem) -> AliasResult:
         name = var_symbols[sym]
         if has_der[name]:
             dsym = sympy.Symbol(der_name(name))
-            keep_vars = [s for s in expr.free_symbols if s in var_symbols]
+            keep_vars = [s for s in free_symbols(expr) if s in var_symbols]
             if not keep_vars:
                 derivative_mapping[dsym] = sympy.Integer(0)
             else:
@@ -105,7 +105,7 @@ def eliminate_aliases(flat: FlatSystem) -> AliasResult:
                 if not has_der[keep_name]:
                     has_der[keep_name] = True
                     new_derivatives[der_name(keep_name)] = keep_name
-                derivative_mapping[dsym] = expr.coeff(keep) * keep_der
+                derivative_mapping[dsym] = (sympy.S.One if expr is keep else expr.coeff(keep)) * keep_der
 
     passes = 0
     changed = True
@@ -154,6 +154,21 @@ def _resolve(expr: sympy.Expr, mapping: dict, derivative_mapping: dict) -> sympy
             return expr
         expr = expr.xreplace(hit)
     raise RuntimeError("alias chain does not terminate")
+
+
+# a * b, a + b and a / b where sympy would drop the identity (Mul and Add leave out every argument
+# that is S.One or S.Zero, and a one-argument Mul or Add is that argument): the same objects,
+# without the constructor calls.
+def _multiply(a, b):
+    return b if a is sympy.S.One else a * b
+
+
+def _add(a, b):
+    return a if b is sympy.S.Zero else a + b
+
+
+def _divide(a, b):
+    return a if b is sympy.S.One else a / b
 
 
 def _linear_terms(residual: sympy.Expr, unknowns: list[sympy.Symbol]):
