@@ -129,8 +129,6 @@ class PublishedValue:
 class WrongValues:
     values: tuple[PublishedValue, ...]
     why: str                # what the published value got wrong, if known
-    dyadc_wrong: str = ""   # another value of the case where dyadc, not the metadata, is wrong:
-                            # then the case is not explained (it stays a mismatch)
 
 
 _HALF_OFFSET = "the offset 0.5 over the 5 s gives 2.5"
@@ -178,11 +176,7 @@ EXPLAINED_VALUES: dict[str, WrongValues] = {
         PublishedValue("integrator.x", 3.53706, 3.5,
                        "exact piecewise integral (the wave is constant between its switching "
                        "times): offset 0.7 over 5 s gives 3.5; the +-1 square wave runs 9 whole "
-                       "periods from 0.5 s to 5 s and adds 0"),), _SNAPSHOT,
-        dyadc_wrong="`signal.y` at the stop t = 5, where the wave switches: its equation gives "
-                    "1.7 (as published); dyadc reports the value just before the switch, -0.3 "
-                    "(the run's conditions hold their segment's value at its end, stop included; "
-                    "tests/compat/test_published_values.py)"),
+                       "periods from 0.5 s to 5 s and adds 0"),), _SNAPSHOT),
     "BlockComponents/dyad/triangular_test.dyad:TriangularTest.case1": WrongValues((
         PublishedValue("integrator.x", 0.37664775, 0.35,
                        "exact piecewise integral (the wave is linear between its corners): 0.7 "
@@ -245,7 +239,7 @@ def value_explanation(file: str, run: str, reason: str) -> PublishedValue | None
     mismatch `reason` (compat.py's wording) it explains, or None."""
     entry = EXPLAINED_VALUES.get(f"{file}:{run}")
     found = _MISMATCH.search(reason)
-    if entry is None or found is None or entry.dyadc_wrong:
+    if entry is None or found is None:
         return None
     got, published, tolerance = (float(found[k]) for k in ("got", "published", "tolerance"))
     for value in entry.values:

@@ -27,7 +27,7 @@ from .options import SimulationOptions
 from .outputs import signals_at
 from .progress import Progress
 from .result import Result
-from .segments import first_step, segment_ends, segment_times, with_clock
+from .segments import clock_on_switches, first_step, segment_ends, segment_times, with_clock
 from .static import solve_static
 from .switching import all_outputs, explained, switch_state_set
 from .watches import build_watch
@@ -93,7 +93,8 @@ class _Run:
         if n == 0:
             return
         self.pending.setdefault(id(model), (model, public_index, []))[2].append(
-            (np.asarray(xs)[:, :n], np.asarray(zs)[:, :n], np.repeat(np.asarray(p).reshape(-1, 1), n, axis=1),
+            (np.asarray(xs)[:, :n], np.asarray(zs)[:, :n],
+             clock_on_switches(model, np.repeat(np.asarray(p).reshape(-1, 1), n, axis=1), times[:n], self.ends),
              np.arange(first, first + n)))
 
     def finish(self) -> None:

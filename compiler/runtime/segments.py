@@ -54,6 +54,23 @@ def with_clock(model: CompiledModel, p: np.ndarray, t_a: float, t_b: float) -> n
     return p
 
 
+def clock_on_switches(model: CompiledModel, ps: np.ndarray, times, ends) -> np.ndarray:
+    """ps (one parameter column per output time) with the event clock at the output's own time
+    where that time is a segment end: a sample that falls on a switch (the stop included) reports
+    the equations' value at that instant, as Dyad's and Modelica's results do, not the value its
+    segment held up to it (a square wave switching at the stop). Other samples keep their
+    segment's clock, so a segment's outputs stay one vectorized evaluation."""
+    name = model.metadata.get("event_clock")
+    if name is None or not len(times):
+        return ps
+    on_end = np.isin(np.asarray(times, dtype=float), np.asarray(ends, dtype=float))
+    if not on_end.any():
+        return ps
+    ps = np.array(ps, dtype=float)
+    ps[model.parameter_names.index(name), on_end] = np.asarray(times, dtype=float)[on_end]
+    return ps
+
+
 def segment_times(grid: np.ndarray, k: int, end: float) -> tuple[list[float], int]:
     """The output times from grid index k up to `end`, inclusive (IDAS's grid for the segment,
     ending at `end`), and how many of them are grid points."""

@@ -145,24 +145,26 @@ def test_dyadc_agrees_with_the_independent_value(key, final_values):
         assert got == pytest.approx(compute(), rel=1e-7, abs=1e-8), signal
 
 
-def _square_at_its_switch(final_values) -> float:
-    # at t = 5 the 0.5 s square wave that starts at 0.5 s switches from -0.3 to 1.7; its equation
-    # (phase mod 1 = 0 < 0.5) gives 1.7 there, as the published SquareTest expects for signal.y
-    return final_values["SignalIntegrals", 5.0, "square"]
+@pytest.fixture(scope="module")
+def on_switches():
+    """SignalIntegrals sampled exactly at switching instants: the square wave's rise at t = 1 and
+    at the stop t = 5, the single pulse's fall at t = 0.875."""
+    compiled = compile_model("PublishedValues.SignalIntegrals", lib_dirs=(str(MODELS),))
+    result = simulate_compiled(compiled, 5.0, saveat=[0.0, 0.875, 1.0, 5.0], rtol=1e-10, atol=1e-10)
+    return {(float(t), name): float(result[name][i]) for i, t in enumerate(result.time)
+            for name in ("square", "pulse")}
 
 
-def test_square_case_is_held_back_exactly_while_dyadc_misses_the_value_at_the_switch(final_values):
-    entry = EXPLAINED_VALUES["BlockComponents/dyad/square_test.dyad:SquareTest.case1"]
-    dyadc_misses = _square_at_its_switch(final_values) != pytest.approx(1.7, abs=1e-9)
-    assert bool(entry.dyadc_wrong) == dyadc_misses
-
-
-@pytest.mark.xfail(strict=True, reason="dyadc reports a time-locked condition's value from before "
-                   "a switch that falls on an output time (here the stop), not the equation's "
-                   "value there: the event clock sits mid-segment (compiler/runtime/segments.py "
-                   "with_clock) for the samples at the segment's end too")
-def test_value_at_a_stop_that_falls_on_a_switch_is_the_equations_value(final_values):
-    assert _square_at_its_switch(final_values) == pytest.approx(1.7, abs=1e-9)
+def test_a_sample_on_a_switch_reports_the_equations_value_there(on_switches):
+    # regression (compiler/runtime/segments.py clock_on_switches): the published SquareTest wants
+    # signal.y = 1.7 at its stop t = 5, where the wave rises; dyadc reported -0.3, the value its
+    # last segment held up to the switch. The square's phase mod 1 is 0 there (< 0.5: high); the
+    # pulse's `time > t0 + 0.375` is still false at t = 0.875 (high): a sample takes each
+    # condition as the equation states it at that instant, whichever side that is.
+    assert on_switches[5.0, "square"] == pytest.approx(1.7, abs=1e-12)
+    assert on_switches[1.0, "square"] == pytest.approx(1.7, abs=1e-12)
+    assert on_switches[0.875, "pulse"] == pytest.approx(1.5, abs=1e-12)
+    assert on_switches[0.0, "square"] == pytest.approx(0.7, abs=1e-12)
 
 
 def test_an_entry_explains_only_its_own_signal_and_published_value():
@@ -213,7 +215,4 @@ def test_dyadc_on_the_published_file_misses_only_the_values_shown_wrong(key, cor
         got, published = missed.pop(value.signal)
         assert published == pytest.approx(value.published, rel=1e-9), value.signal
         assert got == pytest.approx(value.independent, rel=1e-7, abs=1e-8), value.signal
-    if entry.dyadc_wrong:
-        assert set(missed) == {"signal.y"}, out
-    else:
-        assert not missed, out
+    assert not missed, out       # every other published value matches
