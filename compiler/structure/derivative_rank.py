@@ -42,7 +42,8 @@ def remove_derivative_dependencies(equations: list[sympy.Expr], derivative_symbo
         row: dict[int, float] = {}                      # sparse: derivative column -> coefficient
         for d in present:
             coefficient = partial(eq, d)
-            if free_symbols(coefficient) - parameter_values.keys():
+            # (not `free_symbols - parameter_values.keys()`: that walks every parameter, per row)
+            if any(s not in parameter_values for s in free_symbols(coefficient)):
                 break                                   # depends on unknowns (or nonlinear in d)
             value = float(coefficient.xreplace(parameter_values))
             if value != 0.0:
