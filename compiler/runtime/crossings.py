@@ -29,9 +29,9 @@ def before_failure(watch, checks: list[float], failure: SimulationFailed, t: flo
 def watched_values(watch: Watch, t0, x0, z0, p, times, checks, segment) -> np.ndarray:
     """The watched functions at the segment's start and at its check times (rows x 1 + checks)."""
     at = np.searchsorted(times, checks)
-    return np.column_stack([watch.values(np.asarray(x0).reshape(-1, 1), np.asarray(z0).reshape(-1, 1),
-                                         p, [t0]),
-                            watch.values(segment.xs[:, at], segment.zs[:, at], p, checks)])
+    xs = np.column_stack([np.asarray(x0, dtype=float).reshape(-1, 1), segment.xs[:, at]])
+    zs = np.column_stack([np.asarray(z0, dtype=float).reshape(-1, 1), segment.zs[:, at]])
+    return watch.values(xs, zs, p, np.concatenate([[t0], checks]))
 
 
 def next_horizon(watch: Watch, t0: float, checks: list[float], values: np.ndarray, horizon: float) -> float:

@@ -37,6 +37,12 @@ MAX_EVENTS_AT_ONE_TIME = 50
 MAX_RETRIES = 200                # shortened segments after IDAS failures, per run
 INITIAL_CHUNKS = 100             # a state-set model's first IDAS call reaches 1/100 of the span
 MOST_CHUNKS = 1000               # and no call reaches less than 1/1000 of it (unless IDAS failed)
+# IDAS restarts cold at every state-set switch (CasADi keeps no step history between calls), and
+# each restart's low-order start-up costs accuracy: 31 restarts of the 2.3 rad pendulum's angle ODE
+# at rtol 1e-8 end 10x less accurate than one run of it. From the first switch on, a run is
+# therefore integrated at tolerances this much tighter (docs/numerics.md; A01 pendulum at rtol
+# 1e-10, 20 s: 6.0 significant digits in the worst variable -> 7.3 for 1.6x the steps; 10 gave 7.0).
+SWITCHED_TOLERANCE = 20.0
 
 
 class StateSetSwitcher(Protocol):
@@ -61,7 +67,7 @@ class _Run:
         self.counters["segments"] = 0
         self.events: list[dict] = []
         self.switches: list[dict] = []
-        self.integrators: dict[int, tuple] = {}
+        self.integrators: dict[tuple, tuple] = {}
         self.pending: dict[int, tuple] = {}
         self.forced_ends: set[float] = set()
         self.retry: tuple | None = None
@@ -75,12 +81,16 @@ class _Run:
         self.durations: dict[tuple, float] = {}  # how long the run last stayed in each state set
 
     def integrator(self, model: CompiledModel):
-        key = id(model)
+        switched = bool(self.switches)           # from the first switch on: tighter tolerances
+        key = (id(model), switched)
         if key not in self.integrators:
             atol = self.options.atol
             base = float(atol.get("*", 1e-6)) if isinstance(atol, Mapping) else float(atol)
             watch = model.derived(("watch", base), lambda: build_watch(model, base))   # once per model
-            opts = integrator_options(model, self.options.rtol, self.options.atol,
+            factor = SWITCHED_TOLERANCE if switched else 1.0
+            tightened = ({name: value / factor for name, value in atol.items()}
+                         if isinstance(atol, Mapping) else atol / factor)
+            opts = integrator_options(model, self.options.rtol / factor, tightened,
                                       self.options.max_steps, self.options.idas_options())
             public_index = [model.output_index(n) for n in self.public]
             self.integrators[key] = (model, IdasIntegrator(model, opts), watch, public_index)
@@ -160,6 +170,8 @@ def _run_watched(run, model, p, point, progress, stats, began) -> Result:
     stats["run_time"] = _time.perf_counter() - began
     stats.update(run.counters)
     stats["state_switches"] = run.switches
+    if run.switches:                      # what IDAS ran at from the first switch on
+        stats["rtol_after_first_switch"] = run.options.rtol / SWITCHED_TOLERANCE
     return _result(run, model, len(run.grid), stats)
 
 
