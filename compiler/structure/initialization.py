@@ -11,6 +11,7 @@ import sympy
 
 from compiler.errors import DyadError
 from compiler.model.flat import FlatSystem, Origin
+from compiler.structure.differentiate import free_symbols
 from compiler.structure.graph.matching import augmenting_path, maximum_matching
 from compiler.structure.reduced import Assignment, InitialProblem
 
@@ -100,27 +101,30 @@ def _choose_free(flat: FlatSystem, states: list[str], algebraics: list[str],
 
 def _incidence(unknowns: list[str], assignments: list[Assignment],
                residuals: list[sympy.Expr]) -> list[list[int]]:
-    """Per residual, the unknowns it depends on (through the assignments it uses)."""
+    """Per residual, the unknowns it depends on (through the assignments it uses), sorted.
+    Dependency sets are bit sets (Python ints): along a chain of assignments they grow with the
+    model, and an OR of two ints is far cheaper than a union of two sets."""
     index = {sympy.Symbol(n): i for i, n in enumerate(unknowns)}
-    depends: dict[sympy.Symbol, frozenset[int]] = {}
+    depends: dict[sympy.Symbol, int] = {}
+
+    def dependencies(expr: sympy.Expr) -> int:
+        bits = 0
+        for s in free_symbols(expr):
+            if s in index:
+                bits |= 1 << index[s]
+            else:
+                bits |= depends.get(s, 0)
+        return bits
+
     for a in assignments:
-        deps: set[int] = set()
-        for s in a.expr.free_symbols:
-            if s in index:
-                deps.add(index[s])
-            elif s in depends:
-                deps |= depends[s]
-        depends[sympy.Symbol(a.target)] = frozenset(deps)
-    incidence = []
-    for r in residuals:
-        deps = set()
-        for s in r.free_symbols:
-            if s in index:
-                deps.add(index[s])
-            elif s in depends:
-                deps |= depends[s]
-        incidence.append(sorted(deps))
-    return incidence
+        depends[sympy.Symbol(a.target)] = dependencies(a.expr)
+    return [_set_bits(dependencies(r)) for r in residuals]
+
+
+def _set_bits(bits: int) -> list[int]:
+    """Positions of the 1 bits of `bits`, ascending."""
+    digits = bin(bits)[:1:-1]                # least significant first, without the '0b'
+    return [i for i, digit in enumerate(digits) if digit == "1"] if bits else []
 
 
 def _declaration(flat: FlatSystem, name: str) -> Origin:
