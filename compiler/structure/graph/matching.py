@@ -133,6 +133,14 @@ def _augment_along_layers(root: int, incidence: list[list[int]], allowed: list[b
     return False
 
 
+class _AllAllowed:
+    def __getitem__(self, var: int) -> bool:
+        return True
+
+
+_ALL_ALLOWED = _AllAllowed()
+
+
 def augmenting_path(eq: int, incidence: list[list[int]], eq_to_var: list[int],
                     var_to_eq: list[int], var_allowed: list[bool] | None = None
                     ) -> tuple[bool, list[int], list[int]]:
@@ -147,7 +155,9 @@ def augmenting_path(eq: int, incidence: list[list[int]], eq_to_var: list[int],
     """
     if eq_to_var[eq] != UNMATCHED:
         raise ValueError(f"augmenting_path: equation {eq} is already matched")
-    allowed = var_allowed
+    # Pantelides calls this once per unmatched equation and the alternating paths of a long
+    # chain run through O(N) equations: the loop below is the inner loop of index reduction.
+    allowed = _ALL_ALLOWED if var_allowed is None else var_allowed
     visited_eqs = [eq]
     visited_vars: list[int] = []
     seen_vars: set[int] = set()
@@ -155,11 +165,11 @@ def augmenting_path(eq: int, incidence: list[list[int]], eq_to_var: list[int],
     path_vars: list[int] = []
     cursors = [0]
     while path_eqs:
-        current = path_eqs[-1]
-        neighbours = incidence[current]
-        if cursors[-1] == 0:
+        neighbours = incidence[path_eqs[-1]]
+        cursor = cursors[-1]
+        if cursor == 0:
             for var in neighbours:
-                if (allowed is None or allowed[var]) and var_to_eq[var] == UNMATCHED:
+                if var_to_eq[var] == UNMATCHED and allowed[var]:
                     path_vars.append(var)
                     for path_eq, path_var in zip(path_eqs, path_vars):
                         eq_to_var[path_eq] = path_var
@@ -168,11 +178,11 @@ def augmenting_path(eq: int, incidence: list[list[int]], eq_to_var: list[int],
                         seen_vars.add(var)
                         visited_vars.append(var)
                     return True, visited_eqs, visited_vars
-        descended = False
-        while cursors[-1] < len(neighbours):
-            var = neighbours[cursors[-1]]
-            cursors[-1] += 1
-            if (allowed is not None and not allowed[var]) or var in seen_vars:
+        size = len(neighbours)
+        while cursor < size:
+            var = neighbours[cursor]
+            cursor += 1
+            if var in seen_vars or not allowed[var]:
                 continue
             seen_vars.add(var)
             visited_vars.append(var)
@@ -180,10 +190,10 @@ def augmenting_path(eq: int, incidence: list[list[int]], eq_to_var: list[int],
             visited_eqs.append(mate)
             path_vars.append(var)
             path_eqs.append(mate)
+            cursors[-1] = cursor
             cursors.append(0)
-            descended = True
             break
-        if not descended:
+        else:
             path_eqs.pop()
             cursors.pop()
             if path_vars:
