@@ -892,7 +892,7 @@ ALGEBRAICS = [
 
 _MODEL_JSON = (
     '{"algebraic_names":["der(der(boom_joint.phi))","der(der(stick.body.phi))","der(der(bucket.body.p'
-    'hi))"],"event_labels":[],"format_version":3,"functions":{"dae":"jhpnnagiieahaaaadaaaaaaaaaaaaaaa'
+    'hi))"],"event_labels":[],"format_version":4,"functions":{"dae":"jhpnnagiieahaaaadaaaaaaaaaaaaaaa'
     'aaaakaaaaaaadfifgefhogdgehjgpgogcaaaaaaadaaaaaaaegbgfgaaaaaaaabajaaaaaaaeaaaaaaaaaaaaaaababababa'
     'caaaaaaaaaaaaaaababaeaaaaaaaaaaaaaaaeghbaaaaaaaaaaaaaadbaaaaaaaaaaaaaabaaaaaaaaaaaaaaaaaaaaaaaaa'
     'aaaaaadbaaaaaaaaaaaaaaaaaaaaaaaaaaaaaabaaaaaaaaaaaaaaacaaaaaaaaaaaaaaadaaaaaaaaaaaaaaaeaaaaaaaaa'

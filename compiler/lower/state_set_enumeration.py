@@ -3,13 +3,15 @@ compiled model (`CompiledModel.variants`), so that generated modules and C code 
 in-process run does, with the runtime only (compiler/runtime/variants.py).
 
 The runtime's choice at a switch point (variants.dummy_choice, the compiler's dummy-derivative
-selection made again) takes, level by level, a set of columns whose block is regular there. Which
-sets a point can give is not known in advance, so every set whose block is structurally regular is
-a possible choice, less those pivoting provably never makes (a column it always takes, see
-always_chosen, left out); their product over the levels (each level's candidates follow from the
-choice one level up) is the list of variants. Each one is built once (reduce with the choice forced, then
-build_variant); beyond VARIANT_LIMIT the model carries none, with a warning, and the in-process run
-builds the state sets it reaches lazily (state_set_variants.Switcher), as before.
+selection made again, with alias rows folded: state_set_folds.py) takes, level by level, a set of
+columns whose block is regular there. Which sets a point can give is not known in advance, so
+every set whose folded block is structurally regular is a possible choice, less what pivoting
+provably never gives: the columns of leading priority classes it always takes whole (constant
+Jacobian, or independent at every point). The sets' product over the levels (each level's
+candidates follow from the choice one level up) is the list of variants: 2 for a pendulum, 14
+for a 3-body Cartesian chain, (3^N + 1) / 2 for N bodies. Each one is built once (reduce with the
+choice forced, then build_variant); beyond VARIANT_LIMIT the model carries none, with a warning,
+and the in-process run builds the state sets it reaches lazily (state_set_variants.Switcher).
 """
 from __future__ import annotations
 
@@ -23,6 +25,7 @@ import sympy
 
 from compiler.errors import DyadError
 from compiler.lower.selection_layout import SelectionLevel, selection_levels
+from compiler.lower.state_set_folds import alias_folds, unfolded
 from compiler.lower.state_set_variants import Variant, _priority_function, build_variant
 from compiler.model.flat import FlatSystem
 from compiler.runtime import pivoted_columns
@@ -45,78 +48,42 @@ class TooManyToList(Exception):
 
 def possible_choices(flat: FlatSystem, system: IndexedSystem, levels: list[SelectionLevel],
                      tries: int = _TRIES) -> Iterator[frozenset[str]]:
-    """Every dummy-derivative set (names) the runtime's choice can make: on each level, the columns
-    that pivoting takes from the leading priority classes whose Jacobian is constant (computed
-    here, at the parameters' defaults), completed by every set of later columns that makes the
-    level's block structurally regular. Raises TooManyToList after looking at `tries` subsets."""
+    """Every dummy-derivative set (names) the runtime's choice can make: on each level, folded
+    (state_set_folds.py: every u taken, the choice made without the alias rows and w columns), the
+    columns that pivoting takes from the leading priority classes whose Jacobian is constant
+    (computed here, at the parameters' defaults), completed by every set of later columns that
+    makes the folded block structurally regular; the next level's candidates follow from the
+    columns that propagate (variants.propagating). Raises TooManyToList after looking at `tries`
+    subsets."""
     constant = _constant_entries(flat, system)
     budget = [tries]
+    folds_of = [alias_folds(system, level.rows, level.order, level.priority.get) for level in levels]
 
     def walk(k: int, candidates: set[int], dummies: tuple[int, ...]):
         if k == len(levels):
             yield frozenset(system.names[v] for v in dummies)
             return
         level = levels[k]
-        order = [v for v in level.order if v in candidates]
-        fixed, rest = _constant_prefix_choice(system, level, order, constant)
-        always = always_chosen(system, level, order)
-        if any(v not in fixed and v not in rest for v in always):
-            return                     # a column that must be taken was passed over: no choice here
-        fixed = fixed + [v for v in rest if v in always]
-        rest = [v for v in rest if v not in always]
-        for subset in itertools.combinations(rest, len(level.rows) - len(fixed)):
+        folds = [(i, u, w) for i, u, w in folds_of[k] if u in candidates and w in candidates]
+        partner = {u: w for _, u, w in folds}
+        rows = [e for i, e in enumerate(level.rows) if i not in {i for i, _, _ in folds}]
+        order = [v for v in level.order if v in candidates and v not in partner.values()]
+        folded = dataclasses.replace(level, rows=tuple(rows))
+        fixed, rest = _constant_prefix_choice(system, folded, order, constant)
+        fixed, rest = _independent_classes(system, folded, fixed, rest)
+        for subset in itertools.combinations(rest, len(rows) - len(fixed)):
             budget[0] -= 1
             if budget[0] < 0:
                 raise TooManyToList
-            if _structurally_regular(system, level.rows, fixed + list(subset)):
-                chosen = fixed + list(subset)
-                following = {level.next[v] for v in chosen if v in level.next}
+            if _structurally_regular(system, rows, fixed + list(subset)):
+                chosen_folded = fixed + list(subset)
+                chosen = unfolded(chosen_folded, folds)
+                taken = set(chosen)
+                following = {level.next[v] for v in chosen if v in level.next and
+                             (v not in partner or partner[v] in taken)}
                 yield from walk(k + 1, following, dummies + tuple(chosen))
     if levels:
         yield from walk(0, set(levels[0].order), ())
-
-
-def always_chosen(system: IndexedSystem, level: SelectionLevel, order: list[int]) -> set[int]:
-    """Columns that are in every full choice pivoting (`pivoted_columns`) can make over `order`.
-
-    Column u is when a row r has exactly two candidate entries, u's and w's, both numbers (no
-    symbol, so for every point and parameter value), w has no other entry on the level, |u_r| >=
-    |w_r|, and u is not behind w in the order of preference (an earlier priority class, or the same
-    class and either |u_r| > |w_r| or u first). Such rows are the derivatives of aliases such as
-    der(x) = vx: der(der(x)) - der(vx) = 0. Why: until u or w is taken, no taken column touches row
-    r, so w's part orthogonal to them is |w_r| and u's at least |u_r|; pivoting therefore never
-    takes w while u is left (ties go to the earlier column), and w's part never exceeds the
-    threshold where u's did not, while a full choice covers row r with u or w."""
-    position = {v: j for j, v in enumerate(order)}
-    rows_of = {v: [e for e in level.rows if v in system.incidence[e]] for v in order}
-    always = set()
-    for r in level.rows:
-        entries = [v for v in order if v in system.incidence[r]]
-        if len(entries) != 2:
-            continue
-        for u, w in (entries, entries[::-1]):
-            if rows_of[w] != [r]:
-                continue
-            u_r, w_r = _number(system, r, u), _number(system, r, w)
-            if u_r is None or w_r is None or w_r == 0:
-                continue
-            pu, pw = level.priority[u], level.priority[w]
-            if pu < pw or (pu == pw and (abs(u_r) > abs(w_r)
-                                         or (abs(u_r) == abs(w_r) and position[u] < position[w]))):
-                always.add(u)
-    return always
-
-
-def _number(system: IndexedSystem, e: int, v: int) -> float | None:
-    """d equation / d unknown where it is a plain finite number (no symbol at all), else None."""
-    derivative = partial(system.equations[e], system.symbols[v])
-    if derivative.free_symbols:
-        return None
-    try:
-        value = float(derivative)
-    except (TypeError, ValueError):
-        return None
-    return value if np.isfinite(value) else None
 
 
 def _constant_entries(flat: FlatSystem, system: IndexedSystem):
@@ -161,6 +128,53 @@ def _constant_prefix_choice(system: IndexedSystem, level: SelectionLevel, order:
     end = prefix[-1][-1] + 1
     picked = pivoted_columns(matrix[:, :end], prefix, len(level.rows))
     return [order[j] for j in sorted(picked)], order[end:]
+
+
+def _independent_classes(system: IndexedSystem, level: SelectionLevel, fixed: list[int], rest: list[int]):
+    """`fixed` and `rest` with the leading priority classes of `rest` that pivoting takes whole
+    moved to `fixed`: a class that fits in the rows left and whose columns, with `fixed`, are
+    independent at every point and parameter value (_triangular). Pivoting then finds a part
+    orthogonal to the columns taken in every column of the class (the threshold, 1e-8 of the
+    largest entry, aside) and takes them all."""
+    fixed, rest = list(fixed), list(rest)
+    while rest:
+        members = [v for v in rest if level.priority[v] == level.priority[rest[0]]]
+        if len(fixed) + len(members) > len(level.rows) or \
+                not _triangular(system, level.rows, fixed + members):
+            break
+        fixed, rest = fixed + members, rest[len(members):]
+    return fixed, rest
+
+
+def _triangular(system: IndexedSystem, rows, columns) -> bool:
+    """Whether `columns` peel off one by one, each on a row of its own among the columns left where
+    its entry is a non-zero number: their block on those rows is then triangular with that
+    number on the diagonal, its determinant never zero."""
+    left, free_rows = set(columns), list(rows)
+    while left:
+        for v in sorted(left):
+            row = next((e for e in free_rows if v in system.incidence[e]
+                        and not any(u in system.incidence[e] for u in left if u != v)
+                        and _number(system, e, v)), None)
+            if row is not None:
+                left.discard(v)
+                free_rows.remove(row)
+                break
+        else:
+            return False
+    return True
+
+
+def _number(system: IndexedSystem, e: int, v: int) -> float | None:
+    """d equation / d unknown where it is a plain finite number (no symbol at all), else None."""
+    derivative = partial(system.equations[e], system.symbols[v])
+    if derivative.free_symbols:
+        return None
+    try:
+        value = float(derivative)
+    except (TypeError, ValueError):
+        return None
+    return value if np.isfinite(value) else None
 
 
 def _structurally_regular(system: IndexedSystem, rows, columns) -> bool:

@@ -19,6 +19,7 @@ import sympy
 from compiler import runtime
 from compiler.model.flat import FlatSystem
 from compiler.lower.selection_layout import selection_assignments, selection_levels, selection_metadata
+from compiler.lower.state_set_folds import alias_folds
 from compiler.lower.to_casadi import lower
 from compiler.runtime.variants import DUMMIES, SELECTION
 from compiler.structure.dummy_derivatives import base_variable
@@ -45,7 +46,7 @@ def monitored_levels(flat: FlatSystem, analysis: Analysis, report: StructureRepo
     constant = set(sympy.Symbol(p.name) for p in flat.parameters)
     priority = _priority_function(analysis)
     levels = []
-    for level, (rows, candidates, chosen) in enumerate(report.levels):
+    for level, (rows, candidates, chosen) in enumerate(folded_levels(analysis, report)):
         if len(candidates) <= len(rows):
             continue
         kept = [v for v in candidates if v not in chosen]
@@ -64,6 +65,43 @@ def monitored_levels(flat: FlatSystem, analysis: Analysis, report: StructureRepo
             continue                                   # only a hinted state could take over: keep the hint
         levels.append((level, rows, candidates, chosen))
     return levels
+
+
+def folded_levels(analysis: Analysis, report: StructureReport) -> list[tuple[list, list, list]]:
+    """The levels of the choice `report` holds as the runtime's choice sees them
+    (variants.dummy_choice): without the alias rows and their w columns (state_set_folds.py), the
+    folded choice (the u whose w is chosen, and the other chosen columns), and each level's
+    candidates only the next versions of the columns that propagate (variants.propagating), with
+    the chosen ones added (a choice made without folding, by the compiler at the start, may hold
+    others: a switch then always leaves it)."""
+    system = analysis.system
+    layout = selection_levels(system, _priority_function(analysis))
+    out, candidates = [], None
+    for k, (rows, all_candidates, chosen) in enumerate(report.levels):
+        if candidates is None:
+            candidates = list(all_candidates)
+        candidates = [v for v in all_candidates if v in set(candidates) | set(chosen)]
+        folds = fold_table(system, layout[k], rows, candidates) if k < len(layout) else []
+        partner = {u: w for _, u, w in folds}
+        fold_rows = {i for i, _, _ in folds}
+        taken = set(chosen)
+        folded_chosen = [v for v in chosen if v not in partner.values() and
+                         (v not in partner or partner[v] in taken)]
+        out.append(([e for i, e in enumerate(rows) if i not in fold_rows],
+                    [v for v in candidates if v not in partner.values()], folded_chosen))
+        following = {layout[k].next[v] for v in chosen if v in layout[k].next and
+                     (v not in partner or partner[v] in taken)} if k < len(layout) else set()
+        candidates = list(following)
+    return out
+
+
+def fold_table(system, level, rows: list[int], candidates: list[int]) -> list[tuple[int, int, int]]:
+    """The folds of selection level `level` that count among `candidates` (both columns there)."""
+    if list(level.rows) != list(rows):
+        return []                             # the layout does not mirror the choice: no folding
+    present = set(candidates)
+    return [(i, u, w) for i, u, w in alias_folds(system, level.rows, level.order, level.priority.get)
+            if u in present and w in present]
 
 
 def _stand_ins(system, kept: list[int]) -> set[int]:
@@ -125,8 +163,17 @@ def build_variant(flat: FlatSystem, analysis: Analysis, point: dict[str, float] 
                                                  priority)
                                       for rows, cands, chosen, start in layouts],
                           metadata={**model.metadata, DUMMIES: dummies,
-                                    SELECTION: selection_metadata(system, levels, public)})
+                                    SELECTION: _with_folds(system, levels, selection_metadata(system, levels, public))})
     return Variant(tuple(monitored.states), monitored, model, report, public)
+
+
+def _with_folds(system, levels, layout: dict) -> dict:
+    """The runtime's layout with each level's alias folds as [row, u, w] (names)."""
+    names = system.names
+    return {**layout, "levels": [
+        {**plain, "folds": [[i, names[u], names[w]]
+                            for i, u, w in alias_folds(system, level.rows, level.order, level.priority.get)]}
+        for plain, level in zip(layout["levels"], levels)]}
 
 
 def _state_set(rows: list[int], candidates: list[int], chosen: list[int], first_output: int,

@@ -15,8 +15,8 @@ import numpy as np
 
 from .errors import ModelInputError, did_you_mean
 
-FORMAT_VERSION = 3                  # 3: the state-set variants (`variants`)
-_READABLE_FORMATS = (1, 2, 3)
+FORMAT_VERSION = 4                  # 3: the state-set variants (`variants`); 4: their alias folds
+_READABLE_FORMATS = (1, 2, 3, 4)
 
 
 class CompiledModel:

@@ -17,19 +17,46 @@ _PIVOT_REL_TOL = 1e-8
 
 
 def pivoted_columns(matrix: np.ndarray, classes: Sequence[Sequence[int]], n_rows: int,
-                    rel_tol: float = _PIVOT_REL_TOL) -> list[int]:
+                    rel_tol: float = _PIVOT_REL_TOL, folds: Sequence[Sequence[int]] = ()) -> list[int]:
     """Pivoted Gram–Schmidt: within each priority class (in order) take the column with the largest
     part orthogonal to the columns already chosen, until `n_rows` are chosen. This is the
-    numerical dummy-derivative choice of the compiler, also made again where a run switches."""
+    numerical dummy-derivative choice of the compiler, also made again where a run switches.
+
+    `folds`: (row, u, w) alias rows of the level (compiler/lower/state_set_folds.py): u is always
+    taken, the choice is made without the rows and the w columns, and w is taken with u where
+    that choice takes u."""
     matrix = np.asarray(matrix, dtype=float)
     scale = max(1.0, float(np.max(np.abs(matrix)))) if matrix.size else 1.0
+    if folds:
+        return _folded_choice(matrix, classes, rel_tol * scale, folds)
+    return _pivoted(matrix, classes, n_rows, rel_tol * scale)
+
+
+def _folded_choice(matrix, classes, threshold, folds) -> list[int]:
+    fold_rows = {int(r) for r, _, _ in folds}
+    partner = {int(u): int(w) for _, u, w in folds}
+    keep_rows = [i for i in range(matrix.shape[0]) if i not in fold_rows]
+    keep_cols = [j for j in range(matrix.shape[1]) if j not in set(partner.values())]
+    at = {j: k for k, j in enumerate(keep_cols)}
+    sub_classes = [[at[j] for j in members if j in at] for members in classes]
+    picked = [keep_cols[k] for k in _pivoted(matrix[np.ix_(keep_rows, keep_cols)],
+                                             [c for c in sub_classes if c], len(keep_rows), threshold)]
+    if len(picked) < len(keep_rows):
+        return picked                         # no regular choice: fewer than n_rows columns
+    return list(partner) + [partner[j] for j in picked if j in partner] + \
+        [j for j in picked if j not in partner]
+
+
+def _pivoted(matrix: np.ndarray, classes, n_rows: int, threshold: float) -> list[int]:
+    if n_rows == 0:
+        return []
     if matrix.shape[0] == 1:
         # one constraint row (a pendulum rod): the largest entry of the first usable class
         row = np.abs(matrix[0])
         for members in classes:
             if members:
                 j = max(members, key=lambda k: row[k])
-                if row[j] > rel_tol * scale:
+                if row[j] > threshold:
                     return [j]
         return []
     basis = np.zeros((matrix.shape[0], 0))
@@ -43,7 +70,7 @@ def pivoted_columns(matrix: np.ndarray, classes: Sequence[Sequence[int]], n_rows
             residual = columns - basis @ (basis.T @ columns) if basis.shape[1] else columns
             norms = np.sqrt(np.einsum("ij,ij->j", residual, residual))
             k = int(np.argmax(norms))
-            if not norms[k] > rel_tol * scale:
+            if not norms[k] > threshold:
                 break
             basis = np.column_stack([basis, residual[:, k] / norms[k]])
             chosen.append(remaining.pop(k))

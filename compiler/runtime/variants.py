@@ -39,8 +39,10 @@ def dummy_choice(levels: Sequence[Mapping], values: Mapping[str, float]) -> froz
     outputs of a variant there), or None where some level has no regular choice.
 
     A level is {"rows": n, "order": candidate names in the compiler's order of preference,
-    "priority": {name: state priority}, "next": {name: its candidate on the next level}}; the first
-    level's candidates are all of its `order`. An entry without an output is structurally zero."""
+    "priority": {name: state priority}, "next": {name: its candidate on the next level}, "folds":
+    [[row, u, w], ...] its alias rows (compiler/lower/state_set_folds.py; a fold counts where u and
+    w are both candidates)}; the first level's candidates are all of its `order`. An entry without
+    an output is structurally zero."""
     candidates = set(levels[0]["order"]) if levels else set()
     dummies: list[str] = []
     for k, level in enumerate(levels):
@@ -55,13 +57,29 @@ def dummy_choice(levels: Sequence[Mapping], values: Mapping[str, float]) -> froz
             if j == 0 or level["priority"][name] != level["priority"][order[j - 1]]:
                 classes.append([])
             classes[-1].append(j)
-        picked = pivoted_columns(matrix, classes, rows)
+        at = {name: j for j, name in enumerate(order)}
+        folds = [(int(r), at[u], at[w]) for r, u, w in level.get("folds", ()) if u in at and w in at]
+        picked = pivoted_columns(matrix, classes, rows, folds=folds)
         if len(picked) < rows:
             return None
         chosen = [order[j] for j in picked]
         dummies.extend(chosen)
-        candidates = {level["next"][c] for c in chosen if c in level["next"]}
+        candidates = {level["next"][c] for c in propagating(chosen, folds_by_name(level, order))
+                      if c in level["next"]}
     return frozenset(dummies)
+
+
+def folds_by_name(level: Mapping, order: Sequence[str]) -> dict[str, str]:
+    """u -> w for the level's folds that count among the candidates `order`."""
+    present = set(order)
+    return {u: w for _, u, w in level.get("folds", ()) if u in present and w in present}
+
+
+def propagating(chosen: Sequence[str], partner: Mapping[str, str]) -> list[str]:
+    """The chosen columns whose next-level versions are the next level's candidates: a folded u
+    only where its w is chosen too (x and vx are dummies together, as if vx were der(x))."""
+    taken = set(chosen)
+    return [c for c in chosen if c not in partner or partner[c] in taken]
 
 
 def simulate(model: CompiledModel, stop: float | None = None, *, switcher=None, **settings):

@@ -1,7 +1,8 @@
 """The compile-time list of state sets (compiler/lower/state_set_enumeration.py) holds every set the
 runtime's choice (variants.dummy_choice) makes: checked at random points, wide in magnitude and with
-zeros, of the unknowns the levels' Jacobians depend on. The pruning (always_chosen) must never drop
-a set pivoting makes; these points would find one it wrongly dropped."""
+zeros, of the unknowns the levels' Jacobians depend on. The list leaves out what the folded choice
+(state_set_folds.py) and whole priority classes taken never give; these points would find a set
+it wrongly left out."""
 from __future__ import annotations
 
 import warnings
@@ -12,10 +13,12 @@ import pytest
 import sympy
 
 from compiler import api
-from compiler.lower.selection_layout import selection_assignments, selection_levels, selection_metadata
-from compiler.lower.state_set_enumeration import always_chosen, possible_choices
+from compiler.lower.selection_layout import selection_assignments, selection_levels
+from compiler.lower.state_set_enumeration import possible_choices
+from compiler.lower.state_set_folds import alias_folds
 from compiler.lower.state_set_variants import _priority_function
-from compiler.runtime.variants import dummy_choice
+from compiler.runtime import pivoted_columns
+from compiler.runtime.variants import SELECTION, dummy_choice
 from tests.hard.cartesian_chain import dyad_source
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -34,10 +37,11 @@ def chain(tmp_path, n: int):
 
 
 def runtime_choices(compilation, points: int, seed: int = 0) -> set:
-    """The choices dummy_choice makes at `points` random points (parameters at their defaults)."""
+    """The choices dummy_choice makes at `points` random points (parameters at their defaults)
+    with the selection layout the compiled model carries."""
     system = compilation.analysis.system
     levels = selection_levels(system, _priority_function(compilation.analysis))
-    layout = selection_metadata(system, levels, [])["levels"]
+    layout = compilation.model.metadata[SELECTION]["levels"]          # as the model carries it
     entries = selection_assignments(system, levels)
     defaults = {sympy.Symbol(p.name): p.value for p in compilation.flat.parameters if p.value is not None}
     expressions = [sympy.sympify(a.expr).xreplace(defaults) for a in entries]
@@ -65,27 +69,46 @@ def listed(compilation) -> set:
     return set(possible_choices(compilation.flat, system, levels, tries=10 ** 6))
 
 
-@pytest.mark.parametrize("name", ["chain2", "chain3", "pendulum", "transistor"])
-def test_every_choice_the_runtime_makes_is_listed(tmp_path, name):
+MODELS = {"pendulum": ("Hard.CartesianPendulumLarge", ROOT / "models"),
+          "four_bar": ("StructureModels.FourBar", ROOT / "structure" / "models"),
+          "transistor": ("StructureModels.TransistorAmplifier", ROOT / "structure" / "models")}
+
+
+@pytest.mark.parametrize("name, count", [("chain2", 5), ("chain3", 14), ("pendulum", 2), ("four_bar", 8),
+                                         ("transistor", 114)])
+def test_every_choice_the_runtime_makes_is_listed(tmp_path, name, count):
     if name.startswith("chain"):
         compilation = chain(tmp_path, int(name[-1]))
-    elif name == "pendulum":
-        compilation = compile_quietly("Hard.CartesianPendulumLarge", lib_dirs=(str(ROOT / "models"),))
     else:
-        compilation = compile_quietly("StructureModels.TransistorAmplifier",
-                                      lib_dirs=(str(ROOT / "structure" / "models"),))
+        spec, folder = MODELS[name]
+        compilation = compile_quietly(spec, lib_dirs=(str(folder),))
     made = runtime_choices(compilation, 1500)
     possible = listed(compilation)
+    assert len(possible) == count
     assert len(made) >= 2                              # the points do reach several sets
     assert made <= possible, sorted(sorted(c) for c in made - possible)
 
 
-def test_der_der_positions_are_always_chosen_in_a_chain(tmp_path):
+def test_a_chain_folds_its_alias_rows_and_keeps_positions_and_velocities_together(tmp_path):
     compilation = chain(tmp_path, 3)
     system = compilation.analysis.system
     first = selection_levels(system, _priority_function(compilation.analysis))[0]
-    always = {system.names[v] for v in always_chosen(system, first, list(first.order))}
-    assert always == {f"der(der({c}{i}))" for c in "xy" for i in (1, 2, 3)}
-    # 656 structurally regular sets, of which 196 keep all six: 14 on each of the two levels
-    assert len(listed(compilation)) == 196
-    assert all(always <= choice for choice in runtime_choices(compilation, 300, seed=1))
+    folds = alias_folds(system, first.rows, first.order, first.priority.get)
+    assert {(system.names[u], system.names[w]) for _, u, w in folds} == \
+        {(f"der(der({c}{i}))", f"der(v{c}{i})") for c in "xy" for i in (1, 2, 3)}
+    for choice in runtime_choices(compilation, 300, seed=1):
+        for c in "xy":
+            for i in (1, 2, 3):     # the position is a dummy exactly where the velocity is
+                assert (f"der({c}{i})" in choice) == (f"der(v{c}{i})" in choice)
+
+
+def test_folded_pivoting_takes_u_always_and_w_with_u():
+    # rows: alias row of column 0 (u) and 2 (w), then one constraint row over columns 0 and 1
+    matrix = np.array([[1.0, 0.0, -1.0],
+                       [0.3, 2.0, 0.0]])
+    classes = [[0, 1, 2]]
+    assert sorted(pivoted_columns(matrix, classes, 2, folds=[(0, 0, 2)])) == [0, 1]   # 2.0 > 0.3
+    matrix[1] = [3.0, 2.0, 0.0]
+    assert sorted(pivoted_columns(matrix, classes, 2, folds=[(0, 0, 2)])) == [0, 2]   # w with u
+    matrix[1] = [0.0, 0.0, 0.0]
+    assert len(pivoted_columns(matrix, classes, 2, folds=[(0, 0, 2)])) < 2           # none regular
