@@ -3,6 +3,7 @@ consistent point it continues from, the switch log entry; and how an IDAS failur
 with state sets is explained."""
 from __future__ import annotations
 
+from itertools import combinations
 from typing import Mapping
 
 import numpy as np
@@ -11,7 +12,7 @@ from .errors import SimulationFailed
 from .initialization import restart_point
 from .model import CompiledModel
 from .outputs import evaluate_outputs, polish_algebraics
-from .state_sets import state_selection_quality
+from .state_sets import level_matrix, state_selection_quality
 
 
 def explained(model: CompiledModel, failure: SimulationFailed) -> SimulationFailed:
@@ -36,10 +37,10 @@ def switch_state_set(run, model: CompiledModel, values: Mapping[str, float], t: 
                   f"state set: simulate it with dyadc, which switches state sets")
         raise SimulationFailed(f"simulation of {model.name} stopped at t = {t:.10g}: {reason}", t, reason)
     new = run.switcher.switch(model, values, t)
-    if new.state_names == model.state_names:
-        reason = "the state selection is singular here and no better one exists"
-        raise SimulationFailed(f"simulation of {model.name} failed at t = {t:.10g}: {reason}", t, reason)
     column = np.array([values.get(n, np.nan) for n in model.output_names], dtype=float)
+    if new.state_names == model.state_names:
+        reason = singular_everywhere(current, column)
+        raise SimulationFailed(f"simulation of {model.name} failed at t = {t:.10g}: {reason}", t, reason)
     quality, _ = state_selection_quality(model.state_sets, column)
     run.switches.append({"time": float(t), "from": list(model.state_names), "to": list(new.state_names),
                          "degraded": dummies, "quality": float(quality)})
@@ -48,6 +49,30 @@ def switch_state_set(run, model: CompiledModel, values: Mapping[str, float], t: 
     z_guess = np.array([values.get(n, 0.0) for n in new.algebraic_names])
     point = restart_point(new, p_new, t, x_target, z_guess)
     return new, point.x, point.z, p_new
+
+
+SETS_LISTED = 6
+
+
+def singular_everywhere(level: Mapping, column: np.ndarray) -> str:
+    """Why no state set serves at this point: every choice of dummy derivatives for the level's
+    constraints, with the smallest singular value of its pivot block (best first), and the largest
+    entry of the constraints' Jacobian for scale."""
+    matrix = level_matrix(level, column)
+    rows, names = int(level["rows"]), list(level["candidates"])
+    sets = []
+    for choice in combinations(range(len(names)), rows):
+        block = matrix[:, list(choice)]
+        sigma = float(np.linalg.svd(block, compute_uv=False)[-1]) if np.all(np.isfinite(block)) else np.nan
+        sets.append((sigma, [names[j] for j in choice]))
+    sets.sort(key=lambda item: -item[0] if np.isfinite(item[0]) else np.inf)
+    listed = "; ".join(f"{{{', '.join(choice)}}}: {sigma:.3g}" for sigma, choice in sets[:SETS_LISTED])
+    more = f"; and {len(sets) - SETS_LISTED} more" if len(sets) > SETS_LISTED else ""
+    largest = float(np.nanmax(np.abs(matrix))) if matrix.size else 0.0
+    return (f"the state selection is singular here: no choice of dummy derivatives among "
+            f"{', '.join(names)} for the {rows} constraint(s) relating them has a regular pivot "
+            f"(smallest singular value of each choice's pivot block: {listed}{more}; largest entry "
+            f"of the constraints' Jacobian: {largest:.3g})")
 
 
 def all_outputs(model: CompiledModel, x, z, p, t: float) -> np.ndarray:
