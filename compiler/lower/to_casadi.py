@@ -30,6 +30,10 @@ def _fold(op: Callable) -> Callable:
     return apply
 
 
+# SX + and * without the Python operator wrappers (which first ask numpy about priority)
+_SUM = _fold(ca.plus)
+_PRODUCT = _fold(ca.times)
+
 _UNARY = {
     sympy.sin: ca.sin, sympy.cos: ca.cos, sympy.tan: ca.tan,
     sympy.asin: ca.asin, sympy.acos: ca.acos, sympy.atan: ca.atan,
@@ -115,7 +119,7 @@ class SXLowering:
                                     f"{context or self.where}", span)
             return ca.SX(float(node))
         if isinstance(node, sympy.Add):
-            return _fold(lambda a, b: a + b)(*[memo[a] for a in node.args])
+            return _SUM(*[memo[a] for a in node.args])
         if isinstance(node, sympy.Mul):
             return self._mul(node)
         if isinstance(node, sympy.Pow):
@@ -156,10 +160,10 @@ class SXLowering:
             else:
                 target = denominator if exponent < 0 else numerator
                 target.append(_rational_power(self.memo[base], abs(exponent)))
-        num = _fold(lambda a, b: a * b)(*numerator) if numerator else ca.SX(1.0)
+        num = _PRODUCT(*numerator) if numerator else ca.SX(1.0)
         if not denominator:
             return num
-        return num / _fold(lambda a, b: a * b)(*denominator)
+        return num / _PRODUCT(*denominator)
 
     def _piecewise(self, node: sympy.Piecewise) -> ca.SX:
         result = ca.SX(float("nan"))                   # no branch applies: undefined
