@@ -33,8 +33,10 @@ def reduce_index(system: IndexedSystem, describe_equation=None) -> tuple[Indexed
             names[d] = der_name(names[v])
     added = result.n_eqs - system.n_eqs
     # the added equations are placeholders until differentiated below, in creation order
+    # incidence is set once below, after differentiation (a placeholder skips the first pass)
     reduced = IndexedSystem(names, list(result.var_to_diff), list(system.equations) + [sympy.Integer(0)] * added,
-                            list(system.origins) + [None] * added, list(result.eq_to_diff))
+                            list(system.origins) + [None] * added, list(result.eq_to_diff),
+                            incidence=[[]] * (system.n_eqs + added))
     for original, derived in result.differentiation_order:
         reduced.equations[derived] = reduced.time_derivative(reduced.equations[original])
         reduced.origins[derived] = reduced.origins[original]

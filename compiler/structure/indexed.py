@@ -81,7 +81,9 @@ class IndexedSystem:
             elif s in self.index_of:
                 d = self.derivative_of_variable(self.index_of[s])
                 coefficient = partial(expr, s)
-                if coefficient != 0:
+                if coefficient is sympy.S.One:          # 1 * der(s) is der(s) (Mul drops the 1)
+                    terms.append(self.symbols[d])
+                elif coefficient != 0:
                     terms.append(coefficient * self.symbols[d])
         return sympy.Add(*terms)
 
