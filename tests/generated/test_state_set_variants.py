@@ -1,6 +1,7 @@
 """A generated module of a model whose state set switches carries every state set (derived at
 compile time) and switches exactly as the in-process run does, on the VM and in C, in a process
-that has only the runtime: the large-amplitude Cartesian pendulum over 20 s at rtol 1e-8."""
+that has only the runtime: the large-amplitude Cartesian pendulum over 20 s at rtol 1e-8, and a
+3-body Cartesian chain (14 state sets)."""
 import ast
 import dataclasses
 import json
@@ -92,3 +93,56 @@ def test_the_module_text_holds_the_variants_as_plain_data(tmp_path, compilation)
     literal = text.split("_MODEL_JSON = ")[1].split("\n)\n")[0] + "\n)"
     payload = json.loads(ast.literal_eval(literal))
     assert payload["format_version"] == 4 and len(payload["variants"]) == 1
+
+
+CHAIN_STOP, CHAIN_SETTINGS = 1.5, dict(rtol=1e-9, atol=1e-9, points=151)
+
+
+@pytest.fixture(scope="module")
+def chain_compilation(tmp_path_factory):
+    from tests.hard.cartesian_chain import dyad_source
+    path = tmp_path_factory.mktemp("chain") / "CartesianChain3.dyad"
+    path.write_text(dyad_source(3, [1.3] * 3))
+    return api.compile(f"{path}:CartesianChain3")
+
+
+def run_chain_module(module_dir: Path, name: str) -> dict:
+    script = (
+        "import json, sys\n"
+        f"import {name} as m\n"
+        f"r = m.simulate({CHAIN_STOP}, **{CHAIN_SETTINGS!r})\n"
+        "out = {name: list(r[name]) for name in ('x1', 'y1', 'x3', 'vy3', 'lambda2')}\n"
+        "out['switches'] = [(s['time'], s['to']) for s in r.switches]\n"
+        "out['native'] = sorted(str(v.native_library is not None) for v in m.model().variants.values())\n"
+        "out['loaded'] = [k for k in ('sympy', 'lark', 'compiler') if k in sys.modules]\n"
+        "print(json.dumps(out))\n"
+    )
+    return run_json(script, module_dir)
+
+
+def assert_same_chain_run(out: dict, reference) -> None:
+    assert out["loaded"] == []
+    assert [(t, to) for t, to in out["switches"]] == switches(reference)
+    for name in ("x1", "y1", "x3", "vy3", "lambda2"):
+        assert np.array_equal(np.array(out[name]), reference[name]), name
+
+
+def test_a_three_body_chain_carries_its_14_state_sets_and_its_module_switches_as_in_process(
+        tmp_path, chain_compilation):
+    # 656 structurally regular sets once, over the limit of 64, so the module carried one set only
+    assert len(chain_compilation.model.variants) == 13
+    in_process = api.simulate_compiled(chain_compilation, CHAIN_STOP, **CHAIN_SETTINGS)
+    assert len(in_process.switches) >= 3
+    write_module(chain_compilation.model, "chain3", tmp_path, standalone=True)
+    assert_same_chain_run(run_chain_module(tmp_path, "chain3"), in_process)
+
+
+@pytest.mark.skipif(find_compiler() is None, reason="no C compiler")
+def test_a_three_body_chain_in_c_switches_as_in_process_in_c(tmp_path, chain_compilation):
+    native = compile_c(chain_compilation.model, tmp_path / "c-cache")
+    assert all(v.native_library is not None for v in native.variants.values())
+    in_c = api.simulate_compiled(dataclass_with_model(chain_compilation, native), CHAIN_STOP, **CHAIN_SETTINGS)
+    write_module(native, "chain3_c", tmp_path / "module", standalone=True)
+    out = run_chain_module(tmp_path / "module", "chain3_c")
+    assert out["native"] == ["True"] * 13
+    assert_same_chain_run(out, in_c)
