@@ -360,7 +360,25 @@ def _warning_line(message, category, filename, lineno, file=None, line=None) -> 
     print(f"warning: {message}", file=file or sys.stderr)
 
 
+# The variables OpenBLAS reads for its thread count (the first one set wins).
+BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS", "OMP_NUM_THREADS")
+
+
+def blas_on_one_thread() -> None:
+    """Load numpy's OpenBLAS with one thread unless the user chose a count. Its worker threads
+    (one per core) cost a cached `dyadc simulate` 50-100 ms of CPU time at start, on a machine that
+    is busy anyway; dyadc's matrices are small (CasADi and IDAS solve the large systems), and a
+    sweep runs one process per core. OpenBLAS reads the variable when it is loaded, so this only
+    acts before numpy is imported (not for a command line called from a Python process that
+    already imported it). Results are the same: one thread or several, these small products and
+    factorizations are computed alike (the excavator's and pendulum's outputs compared byte for
+    byte)."""
+    if "numpy" not in sys.modules and not any(name in os.environ for name in BLAS_THREAD_VARIABLES):
+        os.environ["OPENBLAS_NUM_THREADS"] = "1"
+
+
 def main(argv: list[str] | None = None) -> int:
+    blas_on_one_thread()
     parser = build_parser()
     args = parser.parse_args(argv)
     import warnings
