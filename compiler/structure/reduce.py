@@ -153,9 +153,9 @@ def _numeric_jacobian(system: IndexedSystem, flat: FlatSystem, point: dict[str, 
                 try:
                     out[i, j] = float(substitute(coefficient))
                 except (TypeError, ValueError):
-                    out[i, j] = np.nan
+                    return None      # the point does not cover these unknowns: fall back to structure
         if np.isnan(out).any():
-            return None          # the point does not cover these unknowns: fall back to structure
+            return None
         return out
 
     return jacobian
