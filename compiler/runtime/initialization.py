@@ -92,6 +92,31 @@ def _linear_least_squares(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.linalg.lstsq(a, b, rcond=None)[0]
 
 
+def _polished(evaluate: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]], w: np.ndarray,
+              r: np.ndarray, jac: np.ndarray, rounds: int = 3):
+    """Full Newton steps from the least-squares solution for as long as they shrink the
+    (row-equilibrated) residual: the point then solves the equations to round-off, not only to
+    the stopping test, which is relative to the largest unknown. IDAS takes the point as
+    consistent to its own tolerance: Andrews' squeezer stopped with a residual of 1.7e-11 whose
+    Newton correction of der(epp) was 45 times its IDAS weight at rtol = atol = 1e-12 (the error
+    test failed repeatedly at t = 0); after one step it is 0.02 times."""
+    for _ in range(rounds):
+        if not r.size or not np.all(np.isfinite(r)):
+            break
+        rows = _row_scales(jac)
+        try:
+            step = _linear_least_squares(jac / rows[:, None], -r / rows)
+        except np.linalg.LinAlgError:
+            break
+        w_new = w + step
+        r_new, jac_new = evaluate(w_new)
+        if not np.all(np.isfinite(r_new)) or \
+                np.linalg.norm(r_new / rows) >= np.linalg.norm(r / rows):
+            break
+        w, r, jac = w_new, r_new, jac_new
+    return w, r, jac
+
+
 def _scaled_residual(r: np.ndarray, jac: np.ndarray, w: np.ndarray) -> np.ndarray:
     if not np.all(np.isfinite(r)):
         return np.where(np.isfinite(r), np.abs(r), math.inf)
@@ -115,6 +140,7 @@ def consistent_initialization(model: CompiledModel, p: np.ndarray, t0: float, *,
 
     w0 = np.concatenate([model.x_guess, model.z_guess]).astype(float)
     w, r, jac, iterations = _levenberg_marquardt(evaluate, w0, tol, max_iterations)
+    w, r, jac = _polished(evaluate, w, r, jac)
     measure = _scaled_residual(r, jac, w)
     if not np.all(measure <= tol):
         order = np.argsort(-np.nan_to_num(measure, nan=math.inf), kind="stable")
