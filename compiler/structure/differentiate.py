@@ -73,7 +73,8 @@ def _derive(expr: sympy.Expr, symbol: sympy.Symbol) -> sympy.Expr:
             factors = [_partial(a, symbol) if k else a for k, a in zip(orders, args)]
             if finite and any(f is sympy.S.Zero for f in factors):
                 continue                     # 1 * Mul(..., 0, ...) is 0, which Add drops
-            terms.append(coefficient * sympy.Mul(*factors))
+            product = sympy.Mul(*factors)
+            terms.append(product if coefficient == 1 else coefficient * product)   # Mul drops a 1
         return sympy.Add(*terms)
     if kind is sympy.Pow:                    # Pow._eval_derivative
         base, exponent = expr.base, expr.exp
