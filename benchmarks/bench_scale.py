@@ -4,6 +4,8 @@
     .venv/bin/python benchmarks/bench_scale.py linsol 8 16 32 64 128         -> JSON lines, per solver
     .venv/bin/python benchmarks/bench_scale.py cartesian N STOP              -> one JSON line
     .venv/bin/python benchmarks/bench_scale.py report FILE...                -> docs/scaling.md
+    .venv/bin/python benchmarks/bench_scale.py compile-section B1,B2 A1,A2 NOTES [TITLE_B TITLE_A]
+                                                        -> only the compile section of docs/scaling.md
 
 `compile` times every structure pass separately (wrapping the pass functions, CPU time of this
 process, so that other work on a shared machine inflates the numbers less than wall time would).
@@ -230,12 +232,49 @@ def main(argv: list[str]) -> None:
         print(json.dumps(cartesian_row(int(args[0]), float(args[1]))), flush=True)
     elif mode == "report":
         write_report(*args)
+    elif mode == "compile-section":
+        write_compile_section(*args)
     else:
         raise SystemExit(__doc__)
 
 
 def _read(path: str) -> list[dict]:
     return [json.loads(line) for line in Path(path).read_text().splitlines() if line.startswith("{")]
+
+
+def _median_rows(paths: str) -> list[dict]:
+    """Rows of several `compile` runs (comma-separated files), each number the median per N."""
+    runs = [_read(path) for path in paths.split(",")]
+    rows = []
+    for same_n in zip(*runs):
+        row = dict(same_n[0])
+        for key, value in row.items():
+            if isinstance(value, float):
+                row[key] = statistics.median(r.get(key, 0.0) for r in same_n)
+        rows.append(row)
+    return rows
+
+
+def write_compile_section(before: str, after: str, notes: str, before_title: str = "Before",
+                          after_title: str = "After", out: str = str(ROOT / "docs" / "scaling.md")) -> None:
+    """Rewrite only the section `## Compile time per pass` of docs/scaling.md (up to the next
+    `## ` heading): the per-pass tables of two sets of `compile` runs (BEFORE and AFTER are
+    comma-separated JSON-line files: medians over the runs) and the text of NOTES."""
+    from suite.machine import describe
+    lines = Path(out).read_text(encoding="utf-8").splitlines()
+    start = lines.index("## Compile time per pass")
+    end = next(i for i in range(start + 1, len(lines)) if lines[i].startswith("## "))
+    runs = len(before.split(","))
+    section = ["## Compile time per pass", "",
+               "The chain of benchmarks/suite/chain_model.py (World + N x (Revolute + BodyShape)); one "
+               "process per run, warmed up on N = 1; `structure` is everything between flattening and "
+               "lowering, `lower` includes the state-set check; `compile` = parse + flatten + structure + "
+               f"lower. CPU seconds, median of {runs} runs per N. Machine: "
+               + ", ".join(f"{k} {v}" for k, v in describe().items()) + ".", ""]
+    section += compile_table(_median_rows(before), before_title)
+    section += compile_table(_median_rows(after), after_title)
+    section += [Path(notes).read_text(encoding="utf-8").rstrip(), ""]
+    Path(out).write_text("\n".join(lines[:start] + section + lines[end:]) + "\n", encoding="utf-8")
 
 
 def write_report(before: str, after: str, linsol: str, notes: str | None = None,
