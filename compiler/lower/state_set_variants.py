@@ -125,10 +125,22 @@ def _stand_ins(system, kept: list[int]) -> set[int]:
 
 
 def _priority_function(analysis: Analysis):
-    diff_to_var = analysis.system.diff_to_var()
+    """The state priority of a candidate as the run-time choice and the list of state sets order
+    it: twice the declared priority of its base variable, less one where the model never
+    differentiates that variable (der(g) only appears in equations the index reduction
+    differentiated, g = f(y) say): between equal declared priorities its derivative is rather a
+    dummy, and the variables the model differentiates stay states. The compiler's first choice
+    orders by the declared priority alone."""
+    system = analysis.system
+    diff_to_var = system.diff_to_var()
+    diff_to_eq = system.diff_to_eq()
+    differentiated = {diff_to_var[d] for e in range(system.n_eqs) if diff_to_eq[e] < 0
+                      for d in system.incidence[e] if diff_to_var[d] >= 0}
 
     def priority(v: int) -> int:
-        return analysis.priorities.get(analysis.system.names[base_variable(analysis.system, v, diff_to_var)], 0)
+        base = base_variable(system, v, diff_to_var)
+        declared = analysis.priorities.get(system.names[base], 0)
+        return 2 * declared - (0 if base in differentiated else 1)
     return priority
 
 

@@ -75,7 +75,7 @@ MODELS = {"pendulum": ("Hard.CartesianPendulumLarge", ROOT / "models"),
 
 
 @pytest.mark.parametrize("name, count", [("chain2", 5), ("chain3", 14), ("pendulum", 2), ("four_bar", 8),
-                                         ("transistor", 114)])
+                                         ("transistor", 39)])
 def test_every_choice_the_runtime_makes_is_listed(tmp_path, name, count):
     if name.startswith("chain"):
         compilation = chain(tmp_path, int(name[-1]))
