@@ -146,3 +146,25 @@ def test_a_three_body_chain_in_c_switches_as_in_process_in_c(tmp_path, chain_com
     out = run_chain_module(tmp_path / "module", "chain3_c")
     assert out["native"] == ["True"] * 13
     assert_same_chain_run(out, in_c)
+
+
+def test_the_transistor_amplifier_module_switches_as_in_process(tmp_path):
+    # 114 possible sets before folding and priorities (none carried); now 39, all carried
+    compilation = api.compile("StructureModels.TransistorAmplifier",
+                              lib_dirs=(str(Path(__file__).resolve().parents[1] / "structure" / "models"),))
+    assert len(compilation.model.variants) == 38
+    settings = dict(rtol=1e-8, atol=1e-8, points=201)
+    in_process = api.simulate_compiled(compilation, 0.1, **settings)
+    assert len(in_process.switches) >= 10
+    write_module(compilation.model, "transistor", tmp_path, standalone=True)
+    script = ("import json, sys\nimport transistor as m\n"
+              f"r = m.simulate(0.1, **{settings!r})\n"
+              "out = {f'y{i}': list(r[f'y{i}']) for i in range(1, 9)}\n"
+              "out['switches'] = [(s['time'], s['to']) for s in r.switches]\n"
+              "out['loaded'] = [k for k in ('sympy', 'lark', 'compiler') if k in sys.modules]\n"
+              "print(json.dumps(out))\n")
+    out = run_json(script, tmp_path)
+    assert out["loaded"] == []
+    assert [(t, to) for t, to in out["switches"]] == switches(in_process)
+    for i in range(1, 9):
+        assert np.array_equal(np.array(out[f"y{i}"]), in_process[f"y{i}"]), i
