@@ -104,10 +104,14 @@ def compile_or_load(spec: str, lib_dirs: Sequence[str] = (), *,
         return compile_spec(spec, lib_dirs)
     if found is not None:
         return found
+    from compiler.cache import parsed
     from compiler.cache.recording import RecordingLibrary
     started = time.time_ns()
-    library = RecordingLibrary(lib_dirs)
+    parses = parsed.open_cache()           # the trees of files parsed before, unchanged since
+    library = RecordingLibrary(lib_dirs, parser=None if parses is None else parses.parse)
     compilation = compile_spec(spec, lib_dirs, library=library)
+    if parses is not None:
+        parses.prune()
     if compilation.dynamic and not getattr(compilation.model, "variants", None):
         return compilation          # its run derives state sets from the symbolic stages
     began = time.perf_counter()

@@ -5,6 +5,7 @@ import shutil
 from pathlib import Path
 
 from compiler.cache.models import MODELS_FOLDER, ENTRY_SUFFIX
+from compiler.cache.parsed import PARSED_FOLDER, PARSED_SUFFIX
 from compiler.cache.store import CACHE_DIR_VARIABLE, cache_root, folder_lock
 
 
@@ -28,22 +29,24 @@ def info_lines() -> list[str]:
         return [f"the compilation cache is off ({CACHE_DIR_VARIABLE}=off)"]
     models = root / MODELS_FOLDER
     count, size = _size(models, f"*{ENTRY_SUFFIX}")
+    parsed, parsed_size = _size(root / PARSED_FOLDER, f"*{PARSED_SUFFIX}")
     c_folder = _c_folder()
     libraries, library_size = _size(c_folder, "dyad_*.so")
     return [f"cache folder: {root}" + ("" if root.is_dir() else " (not created yet)"),
             f"compiled models: {count} ({_megabytes(size)}) in {models}",
+            f"parsed source files: {parsed} ({_megabytes(parsed_size)}) in {root / PARSED_FOLDER}",
             f"C libraries: {libraries} ({_megabytes(library_size)}) in {c_folder}",
             f"move it with {CACHE_DIR_VARIABLE}=DIR, turn it off with {CACHE_DIR_VARIABLE}=off or "
             f"`dyadc simulate --no-cache`"]
 
 
 def clear() -> list[Path]:
-    """Remove every cached model and C library; the folders themselves stay."""
+    """Remove every cached model, parsed file and C library; the folders themselves stay."""
     root = cache_root()
     if root is None:
         return []
     removed = []
-    for folder in (root / MODELS_FOLDER, _c_folder()):
+    for folder in (root / MODELS_FOLDER, root / PARSED_FOLDER, _c_folder()):
         if not folder.is_dir():
             continue
         with folder_lock(folder):             # no C build is half-way through meanwhile

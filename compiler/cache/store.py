@@ -3,13 +3,13 @@
 The folder is $DYADC_CACHE_DIR, else the user's cache directory (platformdirs: ~/.cache/dyadc on
 Linux, ~/Library/Caches/dyadc on macOS, %LOCALAPPDATA%\\dyadc\\Cache on Windows);
 DYADC_CACHE_DIR=off turns the cache off. It holds `models/` (compiled models and the manifests
-that find them) and `c/` (shared libraries of `--codegen c`, compiler/lower/c_cache.py).
+that find them), `parsed/` (trees of parsed source files, parsed.py) and `c/` (shared libraries
+of `--codegen c`, compiler/lower/c_cache.py).
 
 Every folder is private (0700, refused when owned by another user), every file 0600. A file is
 sealed: one JSON header line with the size and SHA-256 of the payload that follows. It is written
-to a temporary file that then replaces its name (runtime.writers.atomic_write), so a reader sees
-a whole old file or a whole new one, never half of one, and two processes writing the same entry
-both succeed. A file whose header does not match its payload is treated as missing and rebuilt.
+to a temporary file that then replaces its name, so a reader sees a whole old file or a whole new
+one, never half of one, and two processes writing the same entry both succeed. A file whose header does not match its payload is treated as missing and rebuilt.
 """
 from __future__ import annotations
 
@@ -70,16 +70,28 @@ def digest(data: bytes) -> str:
 
 
 def write_sealed(path: Path, payload: bytes) -> None:
-    """`payload` under `path` behind its checksum header, atomically, readable by this user only."""
-    from compiler.runtime.writers import atomic_write
+    """`payload` under `path` behind its checksum header, atomically, readable by this user only.
+
+    Written to a private temporary file (`.NAME.XXXX.tmp`, which prune() removes when a killed
+    writer left it) that then replaces `path`. Not flushed to the disk first (fsync cost 5-15 ms
+    a file): a file that a crash left short or empty does not match its seal, and a file that
+    does not match is a miss."""
+    import tempfile             # writes only: a cache hit reads
     header = json.dumps({"format": SEAL_FORMAT, "size": len(payload), "sha256": digest(payload)},
                         sort_keys=True).encode() + b"\n"
-
-    def write(temp: str) -> None:
-        with open(temp, "wb") as out:
+    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
+    try:
+        with os.fdopen(handle, "wb") as out:
             out.write(header)
             out.write(payload)
-    atomic_write(path, write, mode=FILE_MODE)
+        os.chmod(temporary, FILE_MODE)           # mkstemp gives 0600 already; a umask cannot widen it
+        os.replace(temporary, path)
+    except BaseException:
+        try:
+            os.unlink(temporary)
+        except OSError:
+            pass
+        raise
 
 
 def read_sealed(path: Path) -> bytes | None:
