@@ -3,6 +3,8 @@
   uncached   the first run: an empty cache folder, so the model is compiled (and stored)
   cached     the second run of the unchanged model: the compiled model comes from the cache
   no-cache   `--no-cache`: compiled, nothing stored (the first run minus the cache write)
+  parsed     compiled again with the parsed source files kept (the compiled models removed, as
+             when the model's own file was edited: only that file would be parsed again)
 
 Wall time (time.perf_counter around the process) and CPU time (user + sys of the child, from
 os.wait4) are both reported: on a loaded machine wall time mostly measures the other processes,
@@ -74,7 +76,10 @@ def dyadc(*args: str) -> list[str]:
 def environment(cache: Path, bytecode: Path | None = None) -> dict:
     """dyadc's cache in `cache`; Python's bytecode kept in `bytecode` (as for an installed package,
     whose .pyc files pip writes: without them every run compiles dyadc's modules again, 0.1-0.25 s)."""
-    env = {k: v for k, v in os.environ.items() if k not in ("DYADC_CACHE", "PYTHONDONTWRITEBYTECODE")}
+    # as a user's shell: no BLAS thread count (dyadc picks one), bytecode written
+    skipped = ("DYADC_CACHE", "PYTHONDONTWRITEBYTECODE", "OPENBLAS_NUM_THREADS", "GOTO_NUM_THREADS",
+               "OMP_NUM_THREADS")
+    env = {k: v for k, v in os.environ.items() if k not in skipped}
     env["DYADC_CACHE_DIR"] = str(cache)
     if bytecode is not None:
         env["PYTHONPYCACHEPREFIX"] = str(bytecode)
@@ -83,7 +88,8 @@ def environment(cache: Path, bytecode: Path | None = None) -> dict:
 
 def measure(model: str, stop: float, repeat: int) -> dict[str, list[tuple[float, float]]]:
     run = ["simulate", model, "--stop", str(stop)]
-    samples: dict[str, list[tuple[float, float]]] = {"uncached": [], "cached": [], "no-cache": []}
+    samples: dict[str, list[tuple[float, float]]] = {"uncached": [], "cached": [], "no-cache": [],
+                                                      "parsed": []}
     with tempfile.TemporaryDirectory(prefix="dyadc-bench-cache-") as scratch:
         bytecode = Path(scratch) / "bytecode"
         timed_run(dyadc(*run), environment(Path(scratch) / "warm-up", bytecode))
@@ -93,6 +99,8 @@ def measure(model: str, stop: float, repeat: int) -> dict[str, list[tuple[float,
             samples["uncached"].append(timed_run(dyadc(*run), env))
             samples["cached"].append(timed_run(dyadc(*run), env))
             samples["no-cache"].append(timed_run(dyadc(*run, "--no-cache"), env))
+            shutil.rmtree(cache / "models")
+            samples["parsed"].append(timed_run(dyadc(*run), env))
             shutil.rmtree(cache, ignore_errors=True)
     return samples
 

@@ -38,144 +38,164 @@ def _add_model(p: argparse.ArgumentParser) -> None:
                         "(default $DYADC_MAX_ELEMENTS or 1000000)")
 
 
-def build_parser() -> argparse.ArgumentParser:
+COMMANDS = ("parse", "fmt", "check", "flatten", "inspect", "compile", "simulate", "run", "sweep", "test",
+            "animate", "cache", "generate")
+
+
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The whole command line, or (`command`) the top level with that one command: the others
+    are not needed to read its arguments, and building all of them costs a run 5-6 ms (argparse's
+    gettext lookups). Unknown or missing commands and `--help` get them all."""
     parser = argparse.ArgumentParser(prog="dyadc", description=DESCRIPTION, epilog=EXAMPLES,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
 
-    p = sub.add_parser("parse", help="parse a .dyad file and print its definitions")
-    p.add_argument("file", metavar="FILE")
-    p.set_defaults(run=_cmd_parse)
+    if command in (None, "parse"):
+        p = sub.add_parser("parse", help="parse a .dyad file and print its definitions")
+        p.add_argument("file", metavar="FILE")
+        p.set_defaults(run=_cmd_parse)
 
-    p = sub.add_parser("fmt", help="reprint a .dyad file in canonical form")
-    p.add_argument("file", metavar="FILE")
-    p.add_argument("--write", "-w", action="store_true", help="rewrite the file in place")
-    p.set_defaults(run=_cmd_fmt)
+    if command in (None, "fmt"):
+        p = sub.add_parser("fmt", help="reprint a .dyad file in canonical form")
+        p.add_argument("file", metavar="FILE")
+        p.add_argument("--write", "-w", action="store_true", help="rewrite the file in place")
+        p.set_defaults(run=_cmd_fmt)
 
-    p = sub.add_parser("check", help="flatten a model (or every model under a directory) and check balance")
-    _add_model(p)
-    p.set_defaults(run=_cmd_check)
+    if command in (None, "check"):
+        p = sub.add_parser("check", help="flatten a model (or every model under a directory) and check balance")
+        _add_model(p)
+        p.set_defaults(run=_cmd_check)
 
-    p = sub.add_parser("flatten", help="print the flat equations with their origins")
-    _add_model(p)
-    p.set_defaults(run=_cmd_flatten)
+    if command in (None, "flatten"):
+        p = sub.add_parser("flatten", help="print the flat equations with their origins")
+        _add_model(p)
+        p.set_defaults(run=_cmd_flatten)
 
-    p = sub.add_parser("inspect", help="print every pass of the structural analysis")
-    _add_model(p)
-    p.add_argument("--stop", type=float, metavar="T",
-                   help="also simulate to T and list the state-set switches and events of the run")
-    p.add_argument("--rtol", type=float, default=1e-6, help="relative tolerance of that run (default 1e-6)")
-    p.set_defaults(run=_cmd_inspect)
+    if command in (None, "inspect"):
+        p = sub.add_parser("inspect", help="print every pass of the structural analysis")
+        _add_model(p)
+        p.add_argument("--stop", type=float, metavar="T",
+                       help="also simulate to T and list the state-set switches and events of the run")
+        p.add_argument("--rtol", type=float, default=1e-6, help="relative tolerance of that run (default 1e-6)")
+        p.set_defaults(run=_cmd_inspect)
 
-    p = sub.add_parser("compile", help="write a Python module for a model")
-    _add_model(p)
-    p.add_argument("-o", "--output-dir", default="generated", metavar="DIR")
-    p.add_argument("--name", help="module name (default: the qualified model name in snake_case, "
-                                  "packages joined by `__`, e.g. component_tests__pendulum)")
-    p.add_argument("--standalone", action="store_true",
-                   help="copy the runtime package beside the module (then it needs only casadi and numpy)")
-    p.set_defaults(run=_cmd_compile)
+    if command in (None, "compile"):
+        p = sub.add_parser("compile", help="write a Python module for a model")
+        _add_model(p)
+        p.add_argument("-o", "--output-dir", default="generated", metavar="DIR")
+        p.add_argument("--name", help="module name (default: the qualified model name in snake_case, "
+                                      "packages joined by `__`, e.g. component_tests__pendulum)")
+        p.add_argument("--standalone", action="store_true",
+                       help="copy the runtime package beside the module (then it needs only casadi and numpy)")
+        p.set_defaults(run=_cmd_compile)
 
-    p = sub.add_parser("simulate", help="compile and simulate a model")
-    _add_model(p)
-    p.add_argument("--start", type=float, default=0.0, metavar="T0", help="start time (default 0)")
-    p.add_argument("--stop", type=float, required=True, metavar="T", help="stop time, after --start")
-    p.add_argument("--rtol", type=float, default=1e-6, metavar="R", help="relative tolerance > 0 (default 1e-6)")
-    p.add_argument("--atol", type=float, default=1e-6, metavar="A", help="absolute tolerance > 0 (default 1e-6)")
-    grid = p.add_mutually_exclusive_group()
-    grid.add_argument("--points", type=int, default=501, metavar="N",
-                      help="N evenly spaced output times (default 501)")
-    grid.add_argument("--saveat", metavar="TIMES",
-                      help="output times: DT (every DT, --stop included), a list T1,T2,... or a range "
-                           "FIRST:STEP:LAST")
-    p.add_argument("-p", dest="params", action="append", default=[], metavar="NAME=VALUE[UNIT]",
-                   help="override a parameter by dotted path, optionally with a unit converted to the "
-                        "declared one, e.g. -p L=100mm (repeatable)")
-    p.add_argument("--vars", nargs="+", metavar="NAME", help="signals to write (default: all)")
-    p.add_argument("--output", metavar="FILE",
-                   help="write the result; the extension picks the format: .csv, .parquet, .mat, .npz")
-    p.add_argument("--plot", metavar="FILE.png", help="plot the result, one subplot per unit "
-                                                      "(.png, .pdf, .svg, ...)")
-    p.add_argument("--codegen", choices=["c"], help="compile the model to C with gcc (the first run "
-                                                    "builds it in the background, later runs use it)")
-    p.add_argument("--no-cache", action="store_true",
-                   help="compile from source and store nothing (docs/cache.md; or DYADC_CACHE_DIR=off)")
-    p.add_argument("--keep-partial", action="store_true",
-                   help="when the run fails, write what it reached to FILE.partial.EXT (with --output)")
-    p.add_argument("--max-output-values", type=int, metavar="N",
-                   help="refuse runs storing more than N output values (times x signals; default "
-                        "$DYADC_MAX_OUTPUT_VALUES or 10000000)")
-    p.set_defaults(run=_cmd_simulate)
+    if command in (None, "simulate"):
+        p = sub.add_parser("simulate", help="compile and simulate a model")
+        _add_model(p)
+        p.add_argument("--start", type=float, default=0.0, metavar="T0", help="start time (default 0)")
+        p.add_argument("--stop", type=float, required=True, metavar="T", help="stop time, after --start")
+        p.add_argument("--rtol", type=float, default=1e-6, metavar="R", help="relative tolerance > 0 (default 1e-6)")
+        p.add_argument("--atol", type=float, default=1e-6, metavar="A", help="absolute tolerance > 0 (default 1e-6)")
+        grid = p.add_mutually_exclusive_group()
+        grid.add_argument("--points", type=int, default=501, metavar="N",
+                          help="N evenly spaced output times (default 501)")
+        grid.add_argument("--saveat", metavar="TIMES",
+                          help="output times: DT (every DT, --stop included), a list T1,T2,... or a range "
+                               "FIRST:STEP:LAST")
+        p.add_argument("-p", dest="params", action="append", default=[], metavar="NAME=VALUE[UNIT]",
+                       help="override a parameter by dotted path, optionally with a unit converted to the "
+                            "declared one, e.g. -p L=100mm (repeatable)")
+        p.add_argument("--vars", nargs="+", metavar="NAME", help="signals to write (default: all)")
+        p.add_argument("--output", metavar="FILE",
+                       help="write the result; the extension picks the format: .csv, .parquet, .mat, .npz")
+        p.add_argument("--plot", metavar="FILE.png", help="plot the result, one subplot per unit "
+                                                          "(.png, .pdf, .svg, ...)")
+        p.add_argument("--codegen", choices=["c"], help="compile the model to C with gcc (the first run "
+                                                        "builds it in the background, later runs use it)")
+        p.add_argument("--no-cache", action="store_true",
+                       help="compile from source and store nothing (docs/cache.md; or DYADC_CACHE_DIR=off)")
+        p.add_argument("--keep-partial", action="store_true",
+                       help="when the run fails, write what it reached to FILE.partial.EXT (with --output)")
+        p.add_argument("--max-output-values", type=int, metavar="N",
+                       help="refuse runs storing more than N output values (times x signals; default "
+                            "$DYADC_MAX_OUTPUT_VALUES or 10000000)")
+        p.set_defaults(run=_cmd_simulate)
 
-    from compiler.analysis.command import add_run_parser     # `dyadc run ANALYSIS`
-    add_run_parser(sub, LIB_HELP)
+    if command in (None, "run"):
+        from compiler.analysis.command import add_run_parser     # `dyadc run ANALYSIS`
+        add_run_parser(sub, LIB_HELP)
 
-    p = sub.add_parser("sweep", help="run a model over a grid or random samples of its parameters "
-                                     "(Dask or --serial); see docs/sweeps.md")
-    _add_model(p)
-    p.add_argument("--start", type=float, default=0.0, metavar="T0")
-    p.add_argument("--stop", type=float, required=True, metavar="T")
-    p.add_argument("--rtol", type=float, default=1e-6, metavar="R")
-    p.add_argument("--atol", type=float, default=1e-6, metavar="A")
-    p.add_argument("--points", type=int, default=501, metavar="N", help="output points (default 501)")
-    p.add_argument("-p", dest="params", action="append", default=[], metavar="NAME=AXIS",
-                   help="START:STOP:COUNT or [V1,V2] (grid axes), LOW:HIGH, uniform(a,b), "
-                        "loguniform(a,b), normal(mean,std) (with --samples), or VALUE (fixed)")
-    p.add_argument("--samples", type=int, metavar="N", help="draw N samples instead of a grid")
-    p.add_argument("--method", choices=["lhs", "random"], default="lhs",
-                   help="sampling for --samples: Latin hypercube (default) or plain random")
-    p.add_argument("--seed", type=int, default=None, metavar="S", help="seed for --samples")
-    p.add_argument("--vars", nargs="+", metavar="NAME", help="signals to record (default: the states)")
-    p.add_argument("--metrics", nargs="+", default=[], metavar="EXPR",
-                   help="per-sample scalars, e.g. 'max(abs(tip.y))' or 'peak=max(soil.F_y)'")
-    p.add_argument("--output", metavar="FILE.parquet|FILE.csv",
-                   help="trajectories; the per-sample table goes to FILE.samples.EXT")
-    p.add_argument("--plot", metavar="FILE.png", help="fan charts of the first three --vars over time, "
-                                                      "scatters of each metric against each swept parameter")
-    p.add_argument("--serial", action="store_true", help="run the samples here, one after another (no Dask)")
-    p.add_argument("--scheduler", metavar="ADDRESS",
-                   help="an existing Dask scheduler, e.g. tcp://host:8786 (default $DASK_SCHEDULER_ADDRESS, "
-                        "else a local cluster)")
-    p.add_argument("--workers", type=int, metavar="N", help="local cluster size (default: one per core)")
-    p.add_argument("--recompile", action="store_true",
-                   help="allow structural parameters (array sizes, branches): compile once per distinct value")
-    p.add_argument("--batch-size", type=int, metavar="N", help="samples per Dask task (default: sized "
-                                                               "so task overhead stays under 10%%)")
-    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
-                   help="progress bar on stderr (default: when stderr is a terminal)")
-    p.set_defaults(run=_cmd_sweep)
+    if command in (None, "sweep"):
+        p = sub.add_parser("sweep", help="run a model over a grid or random samples of its parameters "
+                                         "(Dask or --serial); see docs/sweeps.md")
+        _add_model(p)
+        p.add_argument("--start", type=float, default=0.0, metavar="T0")
+        p.add_argument("--stop", type=float, required=True, metavar="T")
+        p.add_argument("--rtol", type=float, default=1e-6, metavar="R")
+        p.add_argument("--atol", type=float, default=1e-6, metavar="A")
+        p.add_argument("--points", type=int, default=501, metavar="N", help="output points (default 501)")
+        p.add_argument("-p", dest="params", action="append", default=[], metavar="NAME=AXIS",
+                       help="START:STOP:COUNT or [V1,V2] (grid axes), LOW:HIGH, uniform(a,b), "
+                            "loguniform(a,b), normal(mean,std) (with --samples), or VALUE (fixed)")
+        p.add_argument("--samples", type=int, metavar="N", help="draw N samples instead of a grid")
+        p.add_argument("--method", choices=["lhs", "random"], default="lhs",
+                       help="sampling for --samples: Latin hypercube (default) or plain random")
+        p.add_argument("--seed", type=int, default=None, metavar="S", help="seed for --samples")
+        p.add_argument("--vars", nargs="+", metavar="NAME", help="signals to record (default: the states)")
+        p.add_argument("--metrics", nargs="+", default=[], metavar="EXPR",
+                       help="per-sample scalars, e.g. 'max(abs(tip.y))' or 'peak=max(soil.F_y)'")
+        p.add_argument("--output", metavar="FILE.parquet|FILE.csv",
+                       help="trajectories; the per-sample table goes to FILE.samples.EXT")
+        p.add_argument("--plot", metavar="FILE.png", help="fan charts of the first three --vars over time, "
+                                                          "scatters of each metric against each swept parameter")
+        p.add_argument("--serial", action="store_true", help="run the samples here, one after another (no Dask)")
+        p.add_argument("--scheduler", metavar="ADDRESS",
+                       help="an existing Dask scheduler, e.g. tcp://host:8786 (default $DASK_SCHEDULER_ADDRESS, "
+                            "else a local cluster)")
+        p.add_argument("--workers", type=int, metavar="N", help="local cluster size (default: one per core)")
+        p.add_argument("--recompile", action="store_true",
+                       help="allow structural parameters (array sizes, branches): compile once per distinct value")
+        p.add_argument("--batch-size", type=int, metavar="N", help="samples per Dask task (default: sized "
+                                                                   "so task overhead stays under 10%%)")
+        p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                       help="progress bar on stderr (default: when stderr is a terminal)")
+        p.set_defaults(run=_cmd_sweep)
 
-    p = sub.add_parser("test", help="run the golden-trajectory test cases of the components' metadata")
-    p.add_argument("model", metavar="MODEL", nargs="?", help="only this model (default: every model with tests)")
-    p.add_argument("-L", "--lib", dest="lib", action="append", default=[], metavar="DIR", help=LIB_HELP)
-    p.add_argument("--golden", metavar="DIR", help="folder of the golden CSV files "
-                   "(default: tests/golden in the current directory)")
-    p.add_argument("--accept", "--update", dest="accept", action="store_true",
-                   help="write the golden files from a run at rtol 1e-10, creating missing ones "
-                        "(never done without this flag)")
-    p.set_defaults(run=_cmd_test)
+    if command in (None, "test"):
+        p = sub.add_parser("test", help="run the golden-trajectory test cases of the components' metadata")
+        p.add_argument("model", metavar="MODEL", nargs="?", help="only this model (default: every model with tests)")
+        p.add_argument("-L", "--lib", dest="lib", action="append", default=[], metavar="DIR", help=LIB_HELP)
+        p.add_argument("--golden", metavar="DIR", help="folder of the golden CSV files "
+                       "(default: tests/golden in the current directory)")
+        p.add_argument("--accept", "--update", dest="accept", action="store_true",
+                       help="write the golden files from a run at rtol 1e-10, creating missing ones "
+                            "(never done without this flag)")
+        p.set_defaults(run=_cmd_test)
 
-    p = sub.add_parser("animate", help="simulate a planar model and write a side-view GIF or MP4")
-    _add_model(p)
-    p.add_argument("--stop", type=float, required=True, metavar="T", help="simulated time span [0, T]")
-    p.add_argument("--output", metavar="FILE", help="default: <Model>.gif (or .mp4 with --format mp4)")
-    p.add_argument("--format", choices=["gif", "mp4"], help="default: from --output's extension, else gif; "
-                                                            "mp4 needs ffmpeg on PATH")
-    p.add_argument("--fps", type=int, default=12, metavar="N", help="frames per second (default 12)")
-    length = p.add_mutually_exclusive_group()
-    length.add_argument("--frames", type=int, metavar="N", help="number of frames (default 120)")
-    length.add_argument("--duration", type=float, metavar="SECONDS",
-                        help="length of the animation; frames = duration x fps")
-    p.set_defaults(run=_cmd_animate)
+    if command in (None, "animate"):
+        p = sub.add_parser("animate", help="simulate a planar model and write a side-view GIF or MP4")
+        _add_model(p)
+        p.add_argument("--stop", type=float, required=True, metavar="T", help="simulated time span [0, T]")
+        p.add_argument("--output", metavar="FILE", help="default: <Model>.gif (or .mp4 with --format mp4)")
+        p.add_argument("--format", choices=["gif", "mp4"], help="default: from --output's extension, else gif; "
+                                                                "mp4 needs ffmpeg on PATH")
+        p.add_argument("--fps", type=int, default=12, metavar="N", help="frames per second (default 12)")
+        length = p.add_mutually_exclusive_group()
+        length.add_argument("--frames", type=int, metavar="N", help="number of frames (default 120)")
+        length.add_argument("--duration", type=float, metavar="SECONDS",
+                            help="length of the animation; frames = duration x fps")
+        p.set_defaults(run=_cmd_animate)
 
-    p = sub.add_parser("cache", help="where the compilation cache is and what it holds; clear it")
-    p.add_argument("action", choices=["info", "clear"])
-    p.set_defaults(run=_cmd_cache)
+    if command in (None, "cache"):
+        p = sub.add_parser("cache", help="where the compilation cache is and what it holds; clear it")
+        p.add_argument("action", choices=["info", "clear"])
+        p.set_defaults(run=_cmd_cache)
 
-    p = sub.add_parser("generate", help="regenerate the committed modules in generated/")
-    p.add_argument("-o", "--output-dir", default="generated", metavar="DIR")
-    p.set_defaults(run=_cmd_generate)
+    if command in (None, "generate"):
+        p = sub.add_parser("generate", help="regenerate the committed modules in generated/")
+        p.add_argument("-o", "--output-dir", default="generated", metavar="DIR")
+        p.set_defaults(run=_cmd_generate)
     return parser
 
 
@@ -379,14 +399,15 @@ def blas_on_one_thread() -> None:
 
 def main(argv: list[str] | None = None) -> int:
     blas_on_one_thread()
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    arguments = sys.argv[1:] if argv is None else list(argv)
+    command = arguments[0] if arguments and arguments[0] in COMMANDS else None
+    args = build_parser(command).parse_args(arguments)
     import warnings
     warnings.showwarning = _warning_line
     try:
         from compiler import cli_options
         from compiler.model.size_limits import element_limit
-        cli_options.check_arguments(sys.argv[1:] if argv is None else list(argv))
+        cli_options.check_arguments(arguments)
         cli_options.check_paths(args)
         with element_limit(getattr(args, "max_elements", None)):
             return args.run(args) or 0
