@@ -27,53 +27,67 @@ from compiler.syntax import ast
 
 CODEC_FORMAT = 1
 TUPLE, SPAN, NODE, SHARED = 0, 1, 2, 3
-_VISIT, _BUILD, _EMIT = 0, 1, 2
 _SCALARS = (str, int, float, bool, type(None))
 # The classes a tree may hold: the dataclasses of the AST module (Span is encoded apart).
 _NODE_TYPES = {name: cls for name, cls in vars(ast).items()
                if isinstance(cls, type) and dataclasses.is_dataclass(cls) and cls.__module__ == ast.__name__}
 _FIELDS = {cls: tuple(f.name for f in dataclasses.fields(cls)) for cls in _NODE_TYPES.values()}
+_REVERSED_FIELDS = {cls: names[::-1] for cls, names in _FIELDS.items()}
+_SCALAR_TYPES = frozenset(_SCALARS)
 
 
 class NotEncodable(ValueError):
     """The tree holds a value the codec does not know (a new kind of field)."""
 
 
+class _Build:
+    """On the encoder's stack: write the node instruction of `node`, whose fields are written."""
+    __slots__ = ("node",)
+
+    def __init__(self, node):
+        self.node = node
+
+
 def encode(tree: ast.File) -> bytes:
     """The JSON bytes of `tree`, or NotEncodable."""
     out: list = []
+    write = out.append
     type_index: dict[type, int] = {}
     built: dict[int, int] = {}           # id(node) -> its number among node instructions
     keep_alive: list = []                # the ids stay those of live nodes
-    # Work in post-order: (_VISIT, value), (_BUILD, node) after its fields, (_EMIT, instruction)
-    # after a tuple's items.
-    stack: list[tuple[int, object]] = [(_VISIT, tree)]
+    # Post-order with one stack of values still to write, a _Build after the fields of its node
+    # and a tuple's instruction (a list: the tree holds no lists) after its items.
+    stack: list = [tree]
+    pop, push, extend = stack.pop, stack.append, stack.extend
     while stack:
-        step, value = stack.pop()
-        if step == _EMIT:
-            out.append(value)
-        elif step == _BUILD:
-            out.append([NODE, type_index.setdefault(type(value), len(type_index))])
-            built[id(value)] = len(built)
-            keep_alive.append(value)
-        elif isinstance(value, _SCALARS):
-            out.append(value)
-        elif type(value) is tuple:
-            stack.append((_EMIT, [TUPLE, len(value)]))
-            stack.extend((_VISIT, item) for item in reversed(value))
-        elif type(value) is Span:
+        value = pop()
+        kind = type(value)
+        if kind in _SCALAR_TYPES or kind is list:
+            write(value)
+        elif kind is _Build:
+            node = value.node
+            write([NODE, type_index.setdefault(type(node), len(type_index))])
+            built[id(node)] = len(built)
+            keep_alive.append(node)
+        elif kind is tuple:
+            push([TUPLE, len(value)])
+            extend(reversed(value))
+        elif kind is Span:
             if value.file != tree.path:
                 raise NotEncodable(f"a span in another file: {value.file}")
-            out.append([SPAN, value.line, value.column, value.end_line, value.end_column])
-        elif type(value) in _FIELDS:
+            write([SPAN, value.line, value.column, value.end_line, value.end_column])
+        elif kind in _REVERSED_FIELDS:
             number = built.get(id(value))
             if number is not None:
-                out.append([SHARED, number])
+                write([SHARED, number])
             else:
-                stack.append((_BUILD, value))
-                stack.extend((_VISIT, getattr(value, name)) for name in reversed(_FIELDS[type(value)]))
+                push(_Build(value))
+                fields = value.__dict__
+                extend([fields[name] for name in _REVERSED_FIELDS[kind]])
+        elif isinstance(value, _SCALARS):         # a str subclass (a lark Token) is written as str
+            write(value)
         else:
-            raise NotEncodable(f"cannot keep a {type(value).__name__} in the parse cache")
+            raise NotEncodable(f"cannot keep a {kind.__name__} in the parse cache")
     types = [[cls.__name__, list(_FIELDS[cls])] for cls in sorted(type_index, key=type_index.get)]
     header = {"format": CODEC_FORMAT, "path": tree.path, "types": types}
     try:
