@@ -54,21 +54,24 @@ def with_clock(model: CompiledModel, p: np.ndarray, t_a: float, t_b: float) -> n
     return p
 
 
-def clock_on_switches(model: CompiledModel, ps: np.ndarray, times, ends) -> np.ndarray:
-    """ps (one parameter column per output time) with the event clock at the output's own time
-    where that time is a segment end: a sample that falls on a switch (the stop included) reports
+def clock_on_switches(model: CompiledModel, p: np.ndarray, times, ends) -> list[tuple[np.ndarray, np.ndarray]]:
+    """(which of `times`, parameter vector) pairs covering every time: a sample that falls on a
+    switch (a segment end, the stop included) takes the event clock at its own time, so it reports
     the equations' value at that instant, as Dyad's and Modelica's results do, not the value its
-    segment held up to it (a square wave switching at the stop). Other samples keep their
-    segment's clock, so a segment's outputs stay one vectorized evaluation."""
+    segment held up to it (a square wave switching at the stop); the others keep the segment's
+    clock, so that they stay one vectorized evaluation."""
+    times = np.asarray(times, dtype=float)
     name = model.metadata.get("event_clock")
-    if name is None or not len(times):
-        return ps
-    on_end = np.isin(np.asarray(times, dtype=float), np.asarray(ends, dtype=float))
-    if not on_end.any():
-        return ps
-    ps = np.array(ps, dtype=float)
-    ps[model.parameter_names.index(name), on_end] = np.asarray(times, dtype=float)[on_end]
-    return ps
+    on_end = np.isin(times, np.asarray(ends, dtype=float)) if name is not None and len(times) else None
+    if on_end is None or not on_end.any():
+        return [(np.ones(len(times), dtype=bool), p)]
+    runs = [(~on_end, p)] if (~on_end).any() else []
+    row = model.parameter_names.index(name)
+    for j in np.nonzero(on_end)[0]:
+        own = np.array(p, dtype=float)
+        own[row] = times[j]
+        runs.append((np.arange(len(times)) == j, own))
+    return runs
 
 
 def segment_times(grid: np.ndarray, k: int, end: float) -> tuple[list[float], int]:
