@@ -4,13 +4,14 @@ from __future__ import annotations
 import sympy
 
 from compiler.model.flat import FlatSystem
+from compiler.structure.differentiate import free_symbols
 from compiler.structure.reduced import ParameterInfo
 
 
 def used_parameters(flat: FlatSystem, expressions: list[sympy.Expr]) -> list[ParameterInfo]:
     by_symbol = {sympy.Symbol(p.name): p for p in flat.parameters}
     used: set[sympy.Symbol] = set()
-    pending = [s for e in expressions for s in e.free_symbols if s in by_symbol]
+    pending = [s for e in expressions for s in free_symbols(e) if s in by_symbol]
     while pending:
         s = pending.pop()
         if s in used:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import sympy
 
+from compiler.structure.differentiate import free_symbols
 from compiler.structure.reduced import Assignment
 
 
@@ -11,12 +12,12 @@ def prune_assignments(assignments: list[Assignment], roots: list[sympy.Expr]
                       ) -> tuple[list[Assignment], list[Assignment]]:
     needed: set[sympy.Symbol] = set()
     for expr in roots:
-        needed |= expr.free_symbols
+        needed |= free_symbols(expr)
     keep = [False] * len(assignments)
     for i in range(len(assignments) - 1, -1, -1):
         if sympy.Symbol(assignments[i].target) in needed:
             keep[i] = True
-            needed |= assignments[i].expr.free_symbols
+            needed |= free_symbols(assignments[i].expr)
     kept = [a for a, k in zip(assignments, keep) if k]
     pruned = [a for a, k in zip(assignments, keep) if not k]
     return kept, pruned
