@@ -38,6 +38,9 @@ class CompiledModel:
     FUNCTION_NAMES = ("dae", "init", "outputs", "params")
     OPTIONAL_FUNCTIONS = ("events", "time_events")
     NATIVE_DAE_NAME = "dyad_dae"
+    # the per-point functions of (x, z, p, t) in the same library (compiler/lower/ccodegen.py)
+    NATIVE_FUNCTION_NAMES = {"outputs": "dyad_outputs", "algebraic_newton": "dyad_alg_newton",
+                             "algebraic_residual": "dyad_alg_residual"}
 
     def __init__(self, *, name: str, state_names: Sequence[str], algebraic_names: Sequence[str],
                  parameter_names: Sequence[str], parameter_defaults: Sequence[float],
@@ -119,6 +122,19 @@ class CompiledModel:
                                       f"{self.native_library}: {str(err).strip().splitlines()[-1]}") \
                     from None
         return self._derived["native"]
+
+    def native_function(self, role: str) -> ca.Function | None:
+        """The C version of one of NATIVE_FUNCTION_NAMES' functions from the model's library, or
+        None: no library, or one built before libraries held it (the VM's function is used then)."""
+        if self.native_dae() is None:
+            return None
+        key = ("native", role)
+        if key not in self._derived:
+            try:
+                self._derived[key] = ca.external(self.NATIVE_FUNCTION_NAMES[role], self.native_library)
+            except RuntimeError:
+                self._derived[key] = None
+        return self._derived[key]
 
     # -- serialization ---------------------------------------------------------------------------
     def to_dict(self) -> dict:

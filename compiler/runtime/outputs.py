@@ -7,6 +7,10 @@ inputs from and writing its outputs to numpy memory (CasADi function buffers). C
 CasADi matrices and back cost more than evaluating the excavator's 631 outputs (measured at 501
 points: 21 ms through DM, 3.4 ms through buffers, bit-identical), and a map per number of points
 was built again for every new segment length.
+
+With `--codegen c` the model's library also holds the output function and the Newton step and
+residual of the algebraic equations (compiler/lower/ccodegen.py); they are used where present:
+the same expressions, the same numbers (bit-identical on the excavator), 3-5x less time.
 """
 from __future__ import annotations
 
@@ -19,6 +23,11 @@ from .model import CompiledModel
 
 BLOCK = 64            # points per mapped call
 SMALL_BLOCK = 8       # points per call of the remainder; what remains of it goes point by point
+# A subset of the outputs is evaluated on the VM when its SX instructions number less than
+# 1/CHEAPER_IN_C of the full output function's, else by the full C function and then taken.
+# Excavator, 1201 points (CPU ms): C, all 631 outputs (1869 instructions) 1.9-2.0; VM, 25 asked
+# (227) 1.3, 5 (323) 1.3, 100 (1145) 4.1, 300 (1466) 5.1, all 6.5-7.4: even at 4 the VM wins.
+CHEAPER_IN_C = 4.0
 
 
 class PointwiseEvaluator:
@@ -129,8 +138,10 @@ def _polish_run(model: CompiledModel, xs, z, p, times, iterations: int) -> np.nd
     """The Newton steps on points that share p; r and its Jacobian are evaluated once per point
     and iterate (at an accepted candidate they are the candidate's), the last candidate's residual
     without the Jacobian, which no further step needs."""
-    newton = evaluator(model, ("algebraic_newton",), model.algebraic_newton)
-    residual = evaluator(model, ("algebraic_residual",), lambda: _residual_function(model))
+    newton = evaluator(model, ("algebraic_newton",),
+                       lambda: model.native_function("algebraic_newton") or model.algebraic_newton())
+    residual = evaluator(model, ("algebraic_residual",),
+                         lambda: model.native_function("algebraic_residual") or _residual_function(model))
     nz, n = z.shape
     r, jac = newton.evaluate(xs, z, p, times)
     for iteration in range(iterations):
@@ -163,21 +174,44 @@ def evaluate_outputs(model: CompiledModel, xs: np.ndarray, zs: np.ndarray, p: np
     """The outputs `rows` (default: every output) at every time of `grid`: a (rows x times)
     array; `p` is one parameter vector or one column per time."""
     n = len(grid)
-    function, _ = output_rows_function(model, rows)
-    count = function.numel_out(0)
+    fast, taken = _outputs_evaluator(model, rows)
+    count = fast.dense_rows[0] if taken is None else len(taken)
     if count == 0 or n == 0:
         return np.zeros((count, n))
-    fast = evaluator(model, ("outputs", None if rows is None else tuple(int(r) for r in rows)),
-                     lambda: function)
     times = np.asarray(grid, dtype=float)
     runs = list(_parameter_runs(p, n))
     if len(runs) == 1:
-        return fast.evaluate(xs, zs, runs[0][2], times)[0]
-    rows_first = np.empty((n, count))              # each run fills its rows in place
-    for first, last, p_run in runs:
-        fast.evaluate(xs[:, first:last], zs[:, first:last], p_run, times[first:last],
-                      into=rows_first[first:last])
-    return rows_first.T
+        values = fast.evaluate(xs, zs, runs[0][2], times)[0]
+    else:
+        rows_first = np.empty((n, fast.dense_rows[0]))      # each run fills its rows in place
+        for first, last, p_run in runs:
+            fast.evaluate(xs[:, first:last], zs[:, first:last], p_run, times[first:last],
+                          into=rows_first[first:last])
+        values = rows_first.T
+    return values if taken is None else values[taken]
+
+
+def _outputs_evaluator(model: CompiledModel, rows: Sequence[int] | None):
+    """(evaluator, rows of its result to take, None: all): the model's C output function where it
+    has one (for a subset too: CHEAPER_IN_C), else the VM function of just the rows asked for."""
+    key = None if rows is None else tuple(int(r) for r in rows)
+    native = model.native_function("outputs")
+    if native is not None and (key is None or _subset_cheaper_in_c(model, key)):
+        return evaluator(model, ("outputs", "native"), lambda: native), (None if key is None else list(key))
+    function, _ = output_rows_function(model, rows)
+    return evaluator(model, ("outputs", key), lambda: function), None
+
+
+def _subset_cheaper_in_c(model: CompiledModel, rows: tuple) -> bool:
+    """Whether every output in C costs less than the rows asked for on the VM: compared by the
+    count of their SX instructions, the VM's taking CHEAPER_IN_C times as long per instruction."""
+    def decide():
+        full = model.outputs
+        subset, _ = output_rows_function(model, rows)
+        if not (full.is_a("SXFunction") and subset.is_a("SXFunction")):
+            return True
+        return subset.n_instructions() * CHEAPER_IN_C >= full.n_instructions()
+    return model.derived(("outputs in C", rows), decide)
 
 
 def signals_at(model: CompiledModel, xs: np.ndarray, zs: np.ndarray, p: np.ndarray,

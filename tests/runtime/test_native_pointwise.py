@@ -1,0 +1,118 @@
+"""`--codegen c`: the outputs and the polishing of the algebraic unknowns run from the model's C
+library (compiler/lower/ccodegen.py pointwise_functions) and give the VM's numbers to round-off;
+a library built before it held them leaves those evaluations on the VM."""
+from __future__ import annotations
+
+import os
+import subprocess
+import tempfile
+from pathlib import Path
+
+import casadi as ca
+import numpy as np
+import pytest
+
+from tests.runtime import runtime_systems as systems
+from tests.runtime.test_outputs_vectorized import points, small_model
+from compiler import runtime
+from compiler.lower import ccodegen
+from compiler.lower.to_casadi import lower
+from compiler.runtime import outputs
+
+pytestmark = pytest.mark.skipif(ccodegen.find_compiler() is None, reason="no C compiler")
+ROUND_OFF = dict(rtol=1e-12, atol=1e-14)
+
+
+@pytest.fixture
+def cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("DYADC_CACHE", str(tmp_path / "cache"))
+    return tmp_path / "cache"
+
+
+def native(model: runtime.CompiledModel) -> runtime.CompiledModel:
+    compiled = ccodegen.compile_c(model)
+    assert compiled.metadata["codegen"] == "c"
+    return compiled
+
+
+def test_the_library_holds_outputs_and_the_algebraic_newton_step(cache):
+    vm = small_model()
+    c = native(vm)
+    for role in ("outputs", "algebraic_newton", "algebraic_residual"):
+        assert c.native_function(role) is not None, role
+        assert vm.native_function(role) is None
+    xs, zs, times = points(vm, 3)
+    p = vm.parameter_vector()
+    for k in (0, 17, len(times) - 1):
+        args = (xs[:, k], zs[:, k], p, times[k])
+        np.testing.assert_allclose(np.asarray(c.native_function("outputs")(*args)),
+                                   np.asarray(vm.outputs(*args)), **ROUND_OFF)
+        r, jac = c.native_function("algebraic_newton")(*args)
+        r_vm, jac_vm = vm.algebraic_newton()(*args)
+        np.testing.assert_allclose(np.asarray(r), np.asarray(r_vm), **ROUND_OFF)
+        np.testing.assert_allclose(np.asarray(ca.densify(jac)), np.asarray(ca.densify(jac_vm)), **ROUND_OFF)
+
+
+def test_polished_outputs_in_c_equal_the_vm_ones(cache):
+    vm = small_model()
+    c = native(vm)
+    xs, zs, times = points(vm, 4)
+    zs = zs * 0.01 + 0.3                  # near the algebraic solution: Newton converges
+    p = vm.parameter_vector()
+    z_vm = outputs.polish_algebraics(vm, xs, zs, p, times)
+    z_c = outputs.polish_algebraics(c, xs, zs, p, times)
+    assert not np.allclose(z_vm, zs)      # polishing moved them
+    np.testing.assert_allclose(z_c, z_vm, **ROUND_OFF)
+    np.testing.assert_allclose(outputs.signals_at(c, xs, zs, p, times),
+                               outputs.signals_at(vm, xs, zs, p, times), **ROUND_OFF)
+    assert ("evaluator", "outputs", "native") in c._derived        # the C function did the work
+
+
+@pytest.mark.parametrize("cheaper_in_c", [0.0, 1e9])       # the VM's subset, and rows of C's all
+def test_asked_rows_equal_the_vm_ones_either_way(cache, monkeypatch, cheaper_in_c):
+    monkeypatch.setattr(outputs, "CHEAPER_IN_C", cheaper_in_c)
+    vm = small_model()
+    c = native(vm)
+    xs, zs, times = points(vm, 5)
+    p = np.repeat(vm.parameter_vector().reshape(-1, 1), len(times), axis=1)
+    p[0, 100:] *= 1.5                     # two runs of parameters
+    rows = [3, 0, 4]
+    got = outputs.evaluate_outputs(c, xs, zs, p, times, rows)
+    np.testing.assert_allclose(got, outputs.evaluate_outputs(vm, xs, zs, p, times, rows), **ROUND_OFF)
+    assert (("evaluator", "outputs", "native") in c._derived) == (cheaper_in_c > 1)
+    assert outputs.evaluate_outputs(c, xs, zs, p, times, []).shape == (0, len(times))
+
+
+def test_a_simulation_in_c_reports_the_vm_values(cache):
+    vm = lower(systems.pendulum_cartesian(0.9))
+    c = native(vm)
+    assert c.algebraic_names and c.native_function("algebraic_newton") is not None
+    a = runtime.simulate(vm, 2.0, points=301, rtol=1e-10, atol=1e-12)
+    b = runtime.simulate(c, 2.0, points=301, rtol=1e-10, atol=1e-12)
+    # the integrator's Jacobian differs in round-off between C and the VM, so the trajectories
+    # do too (to the tolerance); the outputs of the same (x, z) agree to round-off
+    np.testing.assert_allclose(b.values, a.values, rtol=1e-8, atol=1e-9)
+    p = vm.parameter_vector()
+    xs = np.vstack([b[name] for name in vm.state_names])
+    zs = np.vstack([b[name] for name in vm.algebraic_names]) * (1 + 1e-7)      # off the equations
+    np.testing.assert_allclose(outputs.signals_at(c, xs, zs, p, b.time),
+                               outputs.signals_at(vm, xs, zs, p, b.time), **ROUND_OFF)
+
+
+def test_a_library_without_the_pointwise_functions_leaves_them_on_the_vm(tmp_path):
+    """A library built by an earlier dyadc (only the DAE and its Jacobian) still runs the model."""
+    vm = small_model()
+    dae = ccodegen.dae_function(vm)
+    with tempfile.TemporaryDirectory() as scratch:
+        generator = ca.CodeGenerator("dyad_dae", {"with_header": False})
+        generator.add(dae)
+        generator.add(ccodegen.state_jacobian(dae))
+        generator.generate(scratch + os.sep)
+        source = (Path(scratch) / "dyad_dae.c").read_text()
+    library = ccodegen.build_library(source, ccodegen.find_compiler(), tmp_path / "old")
+    old = vm.with_native_library(library)
+    assert old.native_dae() is not None and old.native_function("outputs") is None
+    xs, zs, times = points(vm, 6)
+    p = vm.parameter_vector()
+    np.testing.assert_array_equal(outputs.signals_at(old, xs, zs, p, times),
+                                  outputs.signals_at(vm, xs, zs, p, times))
