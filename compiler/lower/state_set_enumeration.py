@@ -26,7 +26,7 @@ import sympy
 from compiler.errors import DyadError
 from compiler.lower.selection_layout import SelectionLevel, selection_levels
 from compiler.lower.state_set_folds import alias_folds, unfolded
-from compiler.lower.state_set_variants import Variant, _priority_function, build_variant
+from compiler.lower.state_set_variants import Variant, _priority_function, build_variant, forcing, matching
 from compiler.model.flat import FlatSystem
 from compiler.runtime import pivoted_columns
 from compiler.structure.differentiate import partial
@@ -178,37 +178,7 @@ def _number(system: IndexedSystem, e: int, v: int) -> float | None:
 
 
 def _structurally_regular(system: IndexedSystem, rows, columns) -> bool:
-    return len(_matching(system, rows, columns)) == len(rows)
-
-
-def _matching(system: IndexedSystem, rows, columns) -> dict[int, int]:
-    """A maximum matching column -> row position (augmenting paths; levels are small)."""
-    column_rows = {v: [i for i, e in enumerate(rows) if v in system.incidence[e]] for v in columns}
-    row_to_column: dict[int, int] = {}
-
-    def augment(v, seen) -> bool:
-        for i in column_rows[v]:
-            if i not in seen:
-                seen.add(i)
-                if i not in row_to_column or augment(row_to_column[i], seen):
-                    row_to_column[i] = v
-                    return True
-        return False
-    for v in columns:
-        augment(v, set())
-    return {v: i for i, v in row_to_column.items()}
-
-
-def _forcing(system: IndexedSystem, dummies: frozenset[str]):
-    """A Jacobian (rows, cols) -> matrix under which the numerical selection picks `dummies`:
-    a unit entry per chosen column on the row it is matched to, zero elsewhere."""
-    def jacobian(rows: list[int], cols: list[int]) -> np.ndarray:
-        chosen = [v for v in cols if system.names[v] in dummies]
-        matrix = np.zeros((len(rows), len(cols)))
-        for v, i in _matching(system, rows, chosen).items():
-            matrix[i, cols.index(v)] = 1.0
-        return matrix
-    return jacobian
+    return len(matching(system, rows, columns)) == len(rows)
 
 
 def with_variants(flat: FlatSystem, analysis: Analysis, root: Variant,
@@ -239,7 +209,7 @@ def with_variants(flat: FlatSystem, analysis: Analysis, root: Variant,
             continue
         report = StructureReport()
         try:
-            reduced = reduce(flat, report=report, analysis=analysis, pivots=_forcing(system, dummies))
+            reduced = reduce(flat, report=report, analysis=analysis, pivots=forcing(system, dummies))
         except DyadError:
             continue                   # regular level by level, yet no causal order: never chosen
         built = build_variant(flat, analysis, None, reduced=reduced, report=report)

@@ -14,17 +14,20 @@ import dataclasses
 from dataclasses import dataclass, field
 from typing import Mapping
 
+import numpy as np
 import sympy
 
 from compiler import runtime
+from compiler.errors import DyadError
 from compiler.model.flat import FlatSystem
 from compiler.lower.selection_layout import selection_assignments, selection_levels, selection_metadata
 from compiler.lower.state_set_folds import alias_folds
 from compiler.lower.to_casadi import lower
-from compiler.runtime.variants import DUMMIES, SELECTION
+from compiler.runtime.variants import DUMMIES, SELECTION, dummy_choice
 from compiler.structure.dummy_derivatives import base_variable
 from compiler.structure.differentiate import partial
-from compiler.structure.reduce import Analysis, StructureReport, reduce, select_states
+from compiler.structure.indexed import IndexedSystem
+from compiler.structure.reduce import Analysis, StructureReport, reduce
 from compiler.structure.reduced import Assignment, ReducedSystem
 
 
@@ -203,9 +206,10 @@ def _state_set(rows: list[int], candidates: list[int], chosen: list[int], first_
 
 
 class Switcher:
-    """The runtime's StateSetSwitcher for one compiled model: where the current state set degrades,
-    redo the dummy-derivative choice at that point and hand back the variant it selects (each built
-    once, then kept). A run that began in C code stays in C code in every state set."""
+    """The runtime's StateSetSwitcher for a model that carries no variants (over the limit of
+    state_set_enumeration): where the current state set degrades, make the run-time choice
+    (variants.dummy_choice, as VariantSwitcher does) and hand back its variant, built then and
+    kept. A run that began in C code stays in C code in every state set."""
 
     def __init__(self, flat: FlatSystem, analysis: Analysis, first: Variant,
                  model: runtime.CompiledModel | None = None):
@@ -219,16 +223,62 @@ class Switcher:
             first.siblings[first.states] = dataclasses.replace(first, model=model)
 
     def switch(self, model: runtime.CompiledModel, values: Mapping[str, float], t: float) -> runtime.CompiledModel:
-        point = {k: float(v) for k, v in values.items() if not k.startswith("__pivot")}
-        selection = select_states(self.analysis.system, self.analysis.priorities, self.flat, point)
-        states = tuple(self.analysis.system.names[v] for v in selection.states)
+        layout = model.metadata.get(SELECTION)
+        dummies = dummy_choice(layout["levels"], values) if layout else None
+        if layout and dummies is None:
+            return model                      # no regular choice here: the driver reports it
         cache = self.first.siblings
-        if states not in cache:
-            built = build_variant(self.flat, self.analysis, point)
-            built.siblings = cache
-            cache[states] = built
-        variant = cache[states]
+        variant = next((known for known in cache.values()
+                        if frozenset(known.model.metadata.get(DUMMIES, ())) == dummies), None)
+        if variant is None:
+            variant = self._build(dummies, values)
+            variant.siblings = cache
+            cache[variant.states] = variant
         if self.c_code and variant.model.native_library is None:
             from compiler.lower.ccodegen import compile_c
             variant.model = compile_c(variant.model)
         return variant.model
+
+    def _build(self, dummies: frozenset | None, values: Mapping[str, float]) -> Variant:
+        """The variant of the run-time choice `dummies` (variants.dummy_choice, as the variants a
+        model carries are chosen), or, for a model without the layout, of the compiler's choice."""
+        if dummies is not None:
+            report = StructureReport()
+            try:
+                reduced = reduce(self.flat, report=report, analysis=self.analysis,
+                                 pivots=forcing(self.analysis.system, dummies))
+                return build_variant(self.flat, self.analysis, None, reduced=reduced, report=report)
+            except DyadError:
+                pass                          # no causal order for that choice: the compiler's own
+        point = {k: float(v) for k, v in values.items() if not k.startswith("__pivot")}
+        return build_variant(self.flat, self.analysis, point)
+
+
+def matching(system: IndexedSystem, rows, columns) -> dict[int, int]:
+    """A maximum matching column -> row position (augmenting paths; levels are small)."""
+    column_rows = {v: [i for i, e in enumerate(rows) if v in system.incidence[e]] for v in columns}
+    row_to_column: dict[int, int] = {}
+
+    def augment(v, seen) -> bool:
+        for i in column_rows[v]:
+            if i not in seen:
+                seen.add(i)
+                if i not in row_to_column or augment(row_to_column[i], seen):
+                    row_to_column[i] = v
+                    return True
+        return False
+    for v in columns:
+        augment(v, set())
+    return {v: i for i, v in row_to_column.items()}
+
+
+def forcing(system: IndexedSystem, dummies: frozenset[str]):
+    """A Jacobian (rows, cols) -> matrix under which the numerical selection picks `dummies`:
+    a unit entry per chosen column on the row it is matched to, zero elsewhere."""
+    def jacobian(rows: list[int], cols: list[int]) -> np.ndarray:
+        chosen = [v for v in cols if system.names[v] in dummies]
+        matrix = np.zeros((len(rows), len(cols)))
+        for v, i in matching(system, rows, chosen).items():
+            matrix[i, cols.index(v)] = 1.0
+        return matrix
+    return jacobian

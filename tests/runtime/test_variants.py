@@ -60,9 +60,10 @@ def test_a_model_of_the_previous_format_still_reads(compilation):
     assert runtime.CompiledModel.from_dict(data).variants == {}
 
 
-def test_the_runtime_choice_is_the_compilers_lazy_choice(compilation):
-    """The run with the carried variants and a run whose switcher redoes the compiler's selection
-    with sympy at each switch point (the lazy Switcher) switch at the same times to the same sets."""
+def test_the_carried_variants_are_the_ones_the_lazy_switcher_builds(compilation):
+    """The run with the carried variants and a run whose switcher builds each state set when it
+    reaches it (the lazy Switcher of a model over the limit) switch at the same times to the same
+    sets, with the same values."""
     carried = runtime.simulate(compilation.model, 6.0, rtol=1e-8, atol=1e-8, points=61)
     alone = compilation.model.replace(variants={})
     lazy = Switcher(compilation.flat, compilation.analysis,
@@ -101,3 +102,21 @@ def test_a_five_body_cartesian_chain_is_over_the_limit_and_says_how_far(tmp_path
                                                  r"more than the 64 compiled with it"):
         compiled = api.compile(str(path))
     assert compiled.dynamic and compiled.model.variants == {}
+
+
+def test_a_chain_over_the_limit_switches_in_process_as_with_its_variants(tmp_path):
+    """Without its carried variants (as over the limit) a 3-body chain run in-process makes the same
+    run-time choice (the lazy Switcher builds what it reaches) as with them."""
+    from tests.hard.cartesian_chain import dyad_source
+    path = tmp_path / "CartesianChain3.dyad"
+    path.write_text(dyad_source(3, [1.3] * 3))
+    compiled = api.compile(f"{path}:CartesianChain3")
+    assert len(compiled.model.variants) == 13
+    carried = api.simulate_compiled(compiled, 1.5, rtol=1e-9, atol=1e-9, points=151)
+    alone = compiled.model.replace(variants={})
+    lazy = dataclasses.replace(compiled, model=alone, variant=dataclasses.replace(compiled.variant, model=alone,
+                                                                                  siblings={}))
+    redone = api.simulate_compiled(lazy, 1.5, rtol=1e-9, atol=1e-9, points=151)
+    assert len(carried.switches) >= 3
+    assert [(s["time"], s["to"]) for s in carried.switches] == [(s["time"], s["to"]) for s in redone.switches]
+    assert np.array_equal(carried.values, redone.values)
