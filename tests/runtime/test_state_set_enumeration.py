@@ -70,11 +70,12 @@ def listed(compilation) -> set:
 
 
 MODELS = {"pendulum": ("Hard.CartesianPendulumLarge", ROOT / "models"),
+          "slider_crank": ("Hard.SliderCrank", ROOT / "models"),
           "four_bar": ("StructureModels.FourBar", ROOT / "structure" / "models"),
           "transistor": ("StructureModels.TransistorAmplifier", ROOT / "structure" / "models")}
 
 
-@pytest.mark.parametrize("name, count", [("chain2", 5), ("chain3", 14), ("pendulum", 2), ("four_bar", 8),
+@pytest.mark.parametrize("name, count", [("chain2", 5), ("chain3", 14), ("pendulum", 2), ("slider_crank", 6), ("four_bar", 8),
                                          ("transistor", 39)])
 def test_every_choice_the_runtime_makes_is_listed(tmp_path, name, count):
     if name.startswith("chain"):
