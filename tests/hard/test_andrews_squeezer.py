@@ -25,8 +25,7 @@ def squeezer():
     # system (dummy states): the runtime keeps them in IDAS's error test (runtime/idas.py,
     # error_controlled), the multipliers not. With only the states in the error test the rates
     # reached 4.9 digits and the accelerations 4.7 at rtol 1e-10.
-    # rtol 1e-10 is the tightest that runs with this error control (docs/numerics.md: at 1e-11 the
-    # run leaves the physical branch at t = 0.021, at 1e-12 IDAS fails in its first steps).
+    # Tighter tolerances (1e-11 ... 1e-13) are tested in tests/hard/test_andrews_tight.py.
     return compilation, api.simulate_compiled(compilation, andrews.T_END, points=31, rtol=1e-10, atol=1e-10)
 
 
