@@ -7,6 +7,7 @@ import os
 import re
 import sys
 import tempfile
+import threading
 from typing import Mapping
 
 from .errors import ModelInputError, did_you_mean
@@ -73,7 +74,7 @@ class CapturedStderr:
         self._python, sys.stderr = sys.stderr, io.StringIO()
         try:
             self._python.flush()
-            self._file = tempfile.TemporaryFile(mode="w+b")
+            self._file = _scratch_file()
             self._saved = os.dup(2)
             os.dup2(self._file.fileno(), 2)
         except (OSError, ValueError, AttributeError):
@@ -94,8 +95,29 @@ class CapturedStderr:
         if self._file is not None:
             self._file.seek(0)
             self.text += self._file.read().decode("utf-8", "replace")
-            self._file.close()
+            if self._file is getattr(_scratch, "file", None):
+                self._file.seek(0)
+                self._file.truncate()
+                _scratch.busy = False
+            else:
+                self._file.close()
             self._file = None
+
+
+_scratch = threading.local()
+
+
+def _scratch_file():
+    """One temporary file per thread for CapturedStderr, emptied after each use: creating one per
+    IDAS call cost 50 us (a switching run makes dozens of calls). A capture inside a capture gets
+    a file of its own."""
+    file = getattr(_scratch, "file", None)
+    if file is None or file.closed:
+        file = _scratch.file = tempfile.TemporaryFile(mode="w+b")
+    elif file.tell() or getattr(_scratch, "busy", False):
+        return tempfile.TemporaryFile(mode="w+b")
+    _scratch.busy = True
+    return file
 
 
 def integrator_options(model: CompiledModel, rtol: float, atol, max_steps: int,
