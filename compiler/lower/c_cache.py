@@ -31,7 +31,10 @@ from compiler.cache.store import CacheError, cache_root, folder_lock, private_fo
 
 C_CACHE_VARIABLE = "DYADC_CACHE"
 
-ENTRY_FORMAT = 1
+# 2: a library holds the per-point functions (outputs, algebraic Newton step) besides the DAE and
+# its Jacobian; an entry of format 1 fails validation, so a cached model's link to it
+# (compiler/cache/native.py) leads to a rebuild instead of a library without them
+ENTRY_FORMAT = 2
 BUILD_PREFIX = "build-"
 _OLD_BUILD_PREFIX = "dyadc-cc-"        # build folders of dyadc versions before the validated cache
 

@@ -3,8 +3,8 @@ library (compiler/lower/ccodegen.py pointwise_functions) and give the VM's numbe
 a library built before it held them leaves those evaluations on the VM."""
 from __future__ import annotations
 
+import json
 import os
-import subprocess
 import tempfile
 from pathlib import Path
 
@@ -116,3 +116,20 @@ def test_a_library_without_the_pointwise_functions_leaves_them_on_the_vm(tmp_pat
     p = vm.parameter_vector()
     np.testing.assert_array_equal(outputs.signals_at(old, xs, zs, p, times),
                                   outputs.signals_at(vm, xs, zs, p, times))
+
+
+def test_an_entry_from_before_the_pointwise_functions_is_not_reused(tmp_path):
+    """A cached model links to its library's entry (compiler/cache/native.py); an entry written
+    when libraries held only the DAE (format 1) must fail validation, so that it is rebuilt."""
+    from compiler.lower import c_cache
+    folder, key = tmp_path / "c", "0123456789abcdef0123456789abcdef"
+
+    def build(scratch):
+        (scratch / "lib.so").write_bytes(b"\x7fELF not really")
+        return scratch / "lib.so"
+    library, built = c_cache.fetch_or_build(folder, key, build)
+    assert built and c_cache.valid_entry(folder, key) == library
+    record = folder / f"dyad_{key}.json"
+    old = json.loads(record.read_text())
+    record.write_text(json.dumps({**old, "format": 1}))
+    assert c_cache.valid_entry(folder, key) is None
