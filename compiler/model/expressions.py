@@ -27,6 +27,7 @@ from compiler.errors import DyadError, Span
 from compiler.model.flat import TIME, der_name
 from compiler.model.functions import PI, FunctionCallError, as_array, is_array
 from compiler.model.julia_functions import MAX_CALL_DEPTH, JuliaFunction
+from compiler.model.julia_objects import opaque_call
 from compiler.model.size_limits import check_elements, check_shape, checked_power, range_length
 from compiler.syntax import ast
 
@@ -642,6 +643,11 @@ def _call(expr: ast.Call, scope: EvalScope, mode: Mode) -> Any:
                 raise DyadError(f"enum members with fields (`{name}(...)`) are not supported yet",
                                 span)
             return member
+    if mode is Mode.SYMBOLIC:       # a function of a medium: opaque (compiler/model/julia_objects.py)
+        opaque = opaque_call(name, lex.package, expr, scope.node,
+                             lambda arg: _num(evaluate(arg, scope, mode), span))
+        if opaque is not None:
+            return opaque
     impl = lex.library.resolve_function(name, lex.package, lex.file, span)
     args = [_num(evaluate(a, scope, mode), span) for a in expr.args]
     if isinstance(impl, JuliaFunction):
@@ -716,8 +722,8 @@ def _julia_call(function: JuliaFunction, args: list, expr: ast.Call, scope: Eval
     span = expr.span
     if expr.kwargs:
         raise DyadError(f"`{expr.function}` takes no keyword arguments", span)
-    if len(args) != len(function.parameters):
-        raise DyadError(f"`{expr.function}` takes {len(function.parameters)} argument(s), got "
+    if not function.accepts(len(args)):
+        raise DyadError(f"`{expr.function}` takes {function.arity()} argument(s), got "
                         f"{len(args)}", span)
     depth = scope.bindings.get(_JULIA_DEPTH, 0) + 1
     if depth > MAX_CALL_DEPTH:
@@ -726,7 +732,7 @@ def _julia_call(function: JuliaFunction, args: list, expr: ast.Call, scope: Eval
     package = function.name.rpartition(".")[0]
     inner = EvalScope(_NoMembers(scope.node), Lexical(scope.lexical.library, package, None),
                       scope.tracker, {**dict(zip(function.parameters, args)), _JULIA_DEPTH: depth})
-    for local, value in function.locals:
+    for local, value in function.defaults_after(len(args)) + function.locals:
         inner = inner.bind(**{local: evaluate(value, inner, mode)})
     return evaluate(function.result, inner, mode)
 

@@ -60,6 +60,20 @@ class JuliaFunction:
     result: ast.Expr
     file: str
     line: int
+    # trailing parameters with a default value (`delta = 1`), in order; also in `parameters`
+    defaults: tuple[tuple[str, ast.Expr], ...] = ()
+
+    def accepts(self, count: int) -> bool:
+        return len(self.parameters) - len(self.defaults) <= count <= len(self.parameters)
+
+    def arity(self) -> str:
+        least = len(self.parameters) - len(self.defaults)
+        return str(least) if least == len(self.parameters) else f"{least} to {len(self.parameters)}"
+
+    def defaults_after(self, count: int) -> tuple[tuple[str, ast.Expr], ...]:
+        """The defaults of the parameters a call with `count` arguments leaves out."""
+        return self.defaults[len(self.defaults) - (len(self.parameters) - count):] \
+            if count < len(self.parameters) else ()
 
 
 @dataclass(frozen=True)
@@ -189,37 +203,134 @@ def _statements(body: str, offset: int):
 def _read_function(name, head, body, text, body_offset, path, line) -> JuliaFunction:
     if ";" in head:
         raise _Unreadable("it has keyword arguments")
-    parameters = []
+    parameters: list[str] = []
+    defaults: list[tuple[str, ast.Expr]] = []
+    head_offset = text.rfind(head, 0, body_offset)
     for item in filter(str.strip, head.split(",")):
-        match = _PARAMETER.match(item)
+        name_part, equals, default = item.partition("=")
+        match = _PARAMETER.match(name_part)
         if not match:
             raise _Unreadable(f"parameter `{item.strip()}` is not a plain name")
+        if equals:
+            # a default may use the parameters before it, like Julia's
+            at = head_offset + head.index(item) + len(name_part) + 1
+            defaults.append((match[1], _expression(default, text, at, path, set(parameters))))
+        elif defaults:
+            raise _Unreadable(f"parameter `{match[1]}` without a default follows one with a default")
         parameters.append(match[1])
     known = set(parameters)
     locals_: list[tuple[str, ast.Expr]] = []
-    result = None
-    for statement, at in _statements(body, body_offset):
-        if result is not None:
-            raise _Unreadable("it has statements after its `return`")
+    statements = list(_statements(body, body_offset))
+    index = 0
+    while index < len(statements):
+        statement, at = statements[index]
         stripped = statement.strip()
-        first = re.match(r"[A-Za-z_]\w*", stripped)
-        if first and first.group() in _BLOCK_OPENERS | {"local", "global", "const", "elseif",
-                                                        "else"}:
-            raise _Unreadable(f"it uses `{first.group()}`")
-        if first and first.group() == "return":
-            result = _expression(stripped[len("return"):], text, at + len("return"), path, known)
-            continue
+        first = _first_word(stripped)
+        if first in ("if", "return") or index == len(statements) - 1:
+            result = _tail_value(statements[index:], text, path, known)
+            return JuliaFunction(name, tuple(parameters), tuple(locals_), result, path, line,
+                                 tuple(defaults))
+        if first in _BLOCK_OPENERS | {"local", "global", "const", "elseif", "else"}:
+            raise _Unreadable(f"it uses `{first}`")
         assignment = _ASSIGNMENT.match(statement)
-        if assignment:
-            value = _expression(statement[assignment.end():], text, at + assignment.end(),
-                                path, known)
-            locals_.append((assignment[1], value))
-            known.add(assignment[1])
+        if not assignment:
+            raise _Unreadable(f"`{stripped}` is neither an assignment nor its returned value")
+        value = _expression(statement[assignment.end():], text, at + assignment.end(), path, known)
+        locals_.append((assignment[1], value))
+        known.add(assignment[1])
+        index += 1
+    raise _Unreadable("it returns nothing")
+
+
+def _first_word(statement: str) -> str | None:
+    match = re.match(r"[A-Za-z_]\w*", statement)
+    return match.group() if match else None
+
+
+def _tail_value(statements, text, path, known) -> ast.Expr:
+    """The value that the last statements of a body return: one `return expr` (or a last
+    expression), or an `if`/`elseif`/`else` chain whose branches each return one; a chain
+    without `else` falls through to the statements after its `end`."""
+    statement, at = statements[0]
+    stripped = statement.strip()
+    first = _first_word(stripped)
+    if first == "if":
+        branches, otherwise, rest = _if_chain(statements)
+        if otherwise is None:
+            if not rest:
+                raise _Unreadable("an `if` without `else` is its last statement")
+            otherwise = rest
+        elif rest:
+            raise _Unreadable("it has statements after an `if` whose branches all return")
+        selected = []
+        for (condition, cond_at), branch in branches:
+            if not branch or _first_word(branch[0][0].strip()) not in ("return", "if"):
+                raise _Unreadable("an `if` branch does not end in `return`")
+            selected.append((_condition(condition, text, cond_at, path, known),
+                             _tail_value(branch, text, path, known)))
+        value = _tail_value(otherwise, text, path, known)
+        for condition, then in reversed(selected):
+            value = ast.IfExpr(condition, then, value)
+        return value
+    if len(statements) > 1:
+        raise _Unreadable("it has statements after its `return`")
+    if first == "return":
+        return _expression(stripped[len("return"):], text, at + len("return"), path, known)
+    if first in _BLOCK_OPENERS | {"local", "global", "const", "elseif", "else", "end"} \
+            or _ASSIGNMENT.match(statement):
+        raise _Unreadable(f"it uses `{first}`" if first != "end" else "it returns nothing")
+    return _expression(statement, text, at, path, known)
+
+
+def _if_chain(statements):
+    """([((condition text, its offset), branch statements)...], else statements or None, the
+    statements after the chain's `end`) of an `if` chain starting at statements[0]."""
+    branches, current, otherwise, depth = [], None, None, 0
+    for index, (statement, at) in enumerate(statements):
+        stripped = statement.strip()
+        word = _first_word(stripped)
+        if (index == 0 and word == "if") or (depth == 1 and word == "elseif"):
+            keyword = len(statement) - len(statement.lstrip()) + len(word)
+            current = []
+            branches.append(((statement[keyword:], at + keyword), current))
+            depth = 1
             continue
-        result = _expression(statement, text, at, path, known)
-    if result is None:
-        raise _Unreadable("it returns nothing")
-    return JuliaFunction(name, tuple(parameters), tuple(locals_), result, path, line)
+        if depth == 1 and word == "else" and stripped == "else":
+            current = otherwise = []
+            continue
+        if word == "end" and stripped == "end":
+            depth -= 1
+            if depth == 0:
+                return branches, otherwise, statements[index + 1:]
+        elif word in _BLOCK_OPENERS:
+            depth += 1
+        current.append((statement, at))
+    raise _Unreadable("an `if` without its `end`")
+
+
+_COMPARISONS = ("<=", ">=", "==", "!=", "<", ">")
+
+
+def _condition(source: str, text: str, offset: int, path: str, known: set[str]) -> ast.Expr:
+    """A condition; Julia's chained comparison `a < b < c` is read as `a < b && b < c`."""
+    operands, operators, depth, start, i = [], [], 0, 0, 0
+    while i < len(source):
+        char = source[i]
+        depth += {"(": 1, "[": 1, ")": -1, "]": -1}.get(char, 0)
+        operator = next((op for op in _COMPARISONS if source.startswith(op, i)), None) \
+            if depth == 0 else None
+        if operator:
+            operands.append(source[start:i])
+            operators.append(operator)
+            i = start = i + len(operator)
+            continue
+        i += 1
+    operands.append(source[start:])
+    if len(operators) < 2 or "&" in source or "|" in source:
+        return _expression(source, text, offset, path, known)
+    chained = " && ".join(f"({operands[k]} {operators[k]} {operands[k + 1]})"
+                          for k in range(len(operators)))
+    return _expression(chained, text, offset, path, known)
 
 
 def _expression(source: str, text: str, offset: int, path: str, known: set[str]) -> ast.Expr:

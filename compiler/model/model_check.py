@@ -21,6 +21,7 @@ from compiler.model.balance import check_balance, incidence, span_from_text, unb
 from compiler.errors import DyadError, Note
 from compiler.model.flat import INPUT, FlatSystem
 from compiler.model.floating import FloatingCluster, floating_clusters
+from compiler.model.julia_objects import opaque_calls
 from compiler.structure.graph.dulmage_mendelsohn import dulmage_mendelsohn
 
 
@@ -36,6 +37,8 @@ class Verdict:
     component_unknowns: int = 0               # without those flows and its inputs
     reason: DyadError | None = None           # why it cannot run on its own (None: it can)
     declared_external: bool = False           # `external component`: equations written in Julia
+    julia_object_calls: tuple[str, ...] = ()  # functions of a medium (compiler/model/julia_objects.py)
+    julia_object_span: object = None          # the first equation that calls one
 
     @property
     def is_partial(self) -> bool:
@@ -51,7 +54,8 @@ class Verdict:
     def describe(self) -> str:
         """One status line for `dyadc check`."""
         if not self.is_partial:
-            return f"balanced: {self.equations} equations, {self.unknowns} unknowns"
+            return f"balanced: {self.equations} equations, {self.unknowns} unknowns" \
+                + self._julia_object_note()
         opened = (f"{self.open_count} open connector{'s' if self.open_count != 1 else ''}"
                   + (f" ({self.open_list()})" if self.open_count else ""))
         if self.declared_external:
@@ -63,7 +67,22 @@ class Verdict:
             state = (f"{self.component_equations} equations for {self.component_unknowns} unknowns "
                      f"as a component")
         declared = "declared partial, " if self.declared_partial else ""
-        return f"partial: {declared}{state}, {opened}; it cannot be simulated on its own"
+        return f"partial: {declared}{state}, {opened}; it cannot be simulated on its own" \
+            + self._julia_object_note()
+
+    def _julia_object_note(self) -> str:
+        if not self.julia_object_calls:
+            return ""
+        return (f"; dyadc cannot simulate it: {_calls(self.julia_object_calls)} of a Julia "
+                f"object (a `path` field such as a fluid medium), kept opaque for these checks")
+
+    def julia_object_error(self) -> DyadError:
+        return DyadError(f"`{self.model}` cannot be simulated by dyadc: it calls "
+                         f"{_calls(self.julia_object_calls)} with a Julia object (a `path` field "
+                         f"such as a fluid medium) whose value dyadc cannot represent",
+                         self.julia_object_span,
+                         hint="`dyadc check` still checks its structure; a run needs Dyad's Julia "
+                              "runtime, or the medium's formulas written in Dyad")
 
     def error(self) -> DyadError:
         """Why `simulate` refuses a partial model: what is open, and (as a note) what goes wrong
@@ -94,6 +113,10 @@ class Verdict:
 
 def assess(flat: FlatSystem) -> Verdict:
     """The verdict on `flat`; raises a located DyadError if the model is wrong even as a component."""
+    return _with_julia_objects(flat, _assess(flat))
+
+
+def _assess(flat: FlatSystem) -> Verdict:
     connectors = flat.metadata.get("connectors") or {}
     open_connectors = tuple(p for p, info in connectors.items() if info["owner"] == "")
     open_inputs = tuple(v.name for v in flat.variables if v.kind == INPUT)
@@ -126,11 +149,28 @@ def assess(flat: FlatSystem) -> Verdict:
 
 
 def require_standalone(flat: FlatSystem) -> Verdict:
-    """For `simulate`: a partial model is an error that names its open connectors."""
+    """For `simulate`: a partial model is an error that names its open connectors; so is a
+    model that computes with a Julia object."""
     verdict = assess(flat)
     if verdict.is_partial:
         raise verdict.error()
+    if verdict.julia_object_calls:
+        raise verdict.julia_object_error()
     return verdict
+
+
+def _calls(names: tuple[str, ...]) -> str:
+    shown = ", ".join(f"`{name}`" for name in names[:3])
+    return ("function " if len(names) == 1 else "functions ") + shown \
+        + (f" and {len(names) - 3} more" if len(names) > 3 else "")
+
+
+def _with_julia_objects(flat: FlatSystem, verdict: Verdict) -> Verdict:
+    calling = [e for e in flat.equations + flat.initial_equations if opaque_calls([e.residual])]
+    if not calling:
+        return verdict
+    return replace(verdict, julia_object_span=calling[0].origin.span,
+                   julia_object_calls=tuple(opaque_calls(e.residual for e in calling)))
 
 
 def check_closed(flat: FlatSystem) -> None:

@@ -35,10 +35,10 @@ function clip(x, lo, hi)
 end
 
 function uses_block(x)
-  if x > 0
-    return x
+  while x > 0
+    x = x - 1
   end
-  return 0
+  return x
 end
 
 function uses_global(x)
@@ -75,7 +75,7 @@ def test_reader_keeps_readable_functions_and_says_why_others_are_not(tmp_path):
     assert functions["MyLib.celsius_to_kelvin"].parameters == ("c",)
     assert functions["MyLib.twice"].parameters == ("x",)
     assert functions["MyLib.celsius_to_kelvin"].line == 7
-    assert "uses `if`" in functions["MyLib.uses_block"].reason
+    assert "uses `while`" in functions["MyLib.uses_block"].reason
     assert "some_global" in functions["MyLib.uses_global"].reason
     assert isinstance(functions["MyLib.uses_global"], UnreadableFunction)
 
@@ -120,7 +120,7 @@ _RECURSIVE_CALL_LINE = HELPERS.splitlines().index("  return forever(x)") + 1
 
 
 @pytest.mark.parametrize("call, message, where", [
-    ("uses_block(1)", "cannot read: it uses `if`", ("Model.dyad", 4)),
+    ("uses_block(1)", "cannot read: it uses `while`", ("Model.dyad", 4)),
     ("uses_global(1)", "`some_global`, which is neither a parameter nor a local", ("Model.dyad", 4)),
     ("forever(1)", "calls itself more than", ("helpers.jl", _RECURSIVE_CALL_LINE)),
     ("twice(1, 2)", "takes 1 argument(s), got 2", ("Model.dyad", 4)),
