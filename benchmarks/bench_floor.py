@@ -18,6 +18,8 @@ only the signals asked for (`signals=`, the 25 of the work-precision benchmark).
 Both run interleaved in one process, medians of `repeats` after one warm-up each, in CPU seconds
 of this process (time.process_time; see CLOCK). The per-phase
 profile of ours times the runtime's functions (exclusive time, nested calls subtracted).
+The command line also prints what the C library costs to build, with and without the per-point
+functions (outputs, algebraic Newton step) that `--codegen c` compiles besides the DAE.
 """
 from __future__ import annotations
 
@@ -258,6 +260,42 @@ def table(rows: list[dict]) -> list[str]:
     return lines
 
 
+def library_cost(model: runtime.CompiledModel, repeats: int = 3) -> dict[str, tuple[float, int]]:
+    """(median CPU seconds of the C compiler, library bytes) of the model's C library as
+    `--codegen c` builds it, and of one holding only the DAE and its Jacobian (what the library
+    held before the per-point functions: outputs, algebraic Newton step), built afresh each time."""
+    import resource
+    import subprocess
+    import tempfile
+    from compiler.lower import ccodegen
+    compiler = ccodegen.find_compiler()
+    dae = ccodegen.dae_function(model)
+    generator = ca.CodeGenerator("dyad_dae", {"with_header": False})
+    generator.add(dae)
+    generator.add(ccodegen.state_jacobian(dae))
+    sources = {"DAE and Jacobian only": generator.dump(), "as built (with outputs and Newton step)":
+               ccodegen.c_source(model)}
+    cost = {}
+    for name, source in sources.items():
+        seconds = []
+        with tempfile.TemporaryDirectory() as scratch:
+            (Path(scratch) / "lib.c").write_text(source)
+            for _ in range(repeats):
+                before = resource.getrusage(resource.RUSAGE_CHILDREN)
+                subprocess.run([compiler, *ccodegen.FLAGS, "lib.c", "-o", "lib.so", "-lm"], cwd=scratch, check=True)
+                after = resource.getrusage(resource.RUSAGE_CHILDREN)
+                seconds.append(after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime)
+            cost[name] = (statistics.median(seconds), (Path(scratch) / "lib.so").stat().st_size)
+    return cost
+
+
+def library_lines(cost: dict[str, tuple[float, int]]) -> list[str]:
+    from compiler.lower.ccodegen import FLAGS
+    return ["", f"C library of the excavator ({' '.join(FLAGS)}), median CPU time of the compiler:", "",
+            "| library | build [s] | size [kB] |", "|---|---|---|"] + \
+        [f"| {name} | {seconds:.2f} | {size / 1e3:.0f} |" for name, (seconds, size) in cost.items()]
+
+
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=5)
@@ -269,6 +307,8 @@ def main(argv: list[str]) -> int:
         models = {args.codegen: models[args.codegen]}
     rows = measure(args.repeats, args.points, models, log=lambda line: None)
     print("\n".join(table(rows)))
+    if "C" in models:
+        print("\n".join(library_lines(library_cost(models["C"]))))
     return 0
 
 
