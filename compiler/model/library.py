@@ -144,9 +144,10 @@ class Library:
                 candidates = [named] if named.is_file() else []
             except OSError:         # a part longer than a file name may be (ENAMETOOLONG) names no file
                 continue
-            # under a resolved root already: a resolve() per scanned file cost a compile 20 ms
+            # under a resolved root already: a resolve() per scanned file cost a compile 20 ms;
+            # the plain substring test first spares the header pattern most texts (30 ms)
             candidates += [p for p in sorted(folder.glob("*.dyad"))
-                           if p != named and header.search(self._text(p))]
+                           if p != named and name in self._text(p) and header.search(self._text(p))]
             for path in candidates:
                 parsed = self.parse(path)
                 for definition in parsed.definitions:
