@@ -77,6 +77,8 @@ def _simulate_cached(cached: CachedCompilation, options: runtime.SimulationOptio
             return from_sources()
         raise translate_runtime_error(err, declarations=cached.declarations) from None
     except runtime.ModelInputError as err:
+        if any(name not in cached.model.parameters for name in given):
+            return from_sources()       # a structural parameter is named at its declaration
         raise translate_runtime_error(err) from None
     return _with_compile_times(result, cached.timings)
 

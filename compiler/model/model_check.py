@@ -239,6 +239,28 @@ def _culprit_notes(flat: FlatSystem, top_flows: set[str]) -> list[Note]:
     return notes
 
 
+def require_tunable_overrides(flat: FlatSystem, overrides=None) -> None:
+    """Before a run: an override (`-p name=VALUE`) names no parameter that is fixed when the
+    model is compiled (a structural one sizes arrays and picks branches; a constant or `final`
+    one is bound by its declaration)."""
+    fixed = {p.name: p for p in flat.parameters if not p.tunable}
+    for name in overrides or ():
+        parameter = fixed.get(name)
+        if parameter is None:
+            continue
+        local = name.rsplit(".", 1)[-1]
+        if parameter.variability == "structural":
+            raise DyadError(
+                f"parameter `{name}` of `{flat.name}` is structural: it is fixed when the model is "
+                f"compiled (array sizes, branches), so a run cannot override it", parameter.origin.span,
+                hint=f"change it in the source: the value in its declaration, or a modifier where "
+                     f"its component is used, e.g. `Name({local} = VALUE)`")
+        what = "a constant" if parameter.variability == "constant" else "final"
+        raise DyadError(f"parameter `{name}` of `{flat.name}` is {what}: its declaration binds its "
+                        f"value, so a run cannot override it", parameter.origin.span,
+                        hint="override the parameters its value is computed from, if any")
+
+
 def require_parameter_values(flat: FlatSystem, used: set[str], overrides=None) -> None:
     """Before a run: every parameter the equations use has a value, from its declaration or from
     the caller (`-p name=VALUE`). A parameter may be declared without one on purpose."""

@@ -13,12 +13,13 @@ from contextlib import contextmanager
 from typing import Iterator, Mapping
 
 from compiler.errors import DyadError, Note, SimulationError
-from compiler.model.model_check import require_parameter_values
+from compiler.model.model_check import require_parameter_values, require_tunable_overrides
 from compiler.structure.diagnostics import parameter_singularity_error
 
 
 @contextmanager
 def checked_run(compilation, params: Mapping | None, start: float) -> Iterator[None]:
+    require_tunable_overrides(compilation.flat, params)
     require_parameter_values(compilation.flat, {p.name for p in compilation.reduced.parameters},
                              params)
     try:
