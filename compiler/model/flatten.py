@@ -21,6 +21,7 @@ from compiler.model.instantiate import Instance, Model, ParameterInstance, Varia
 from compiler.model.size_limits import check_elements
 from compiler.model.library import Library, Resolved, load_model, resolve_model  # noqa: F401
 from compiler.structure.collection import fewer_collections
+from compiler.structure.differentiate import free_symbols
 from compiler.syntax import ast
 
 
@@ -418,7 +419,7 @@ class Flattener:
     def _referenced_parameters(self, parameters: list[Parameter]) -> set[str]:
         referenced: set[str] = set()
         for equation in self.equations + self.initial:
-            referenced.update(s.name for s in equation.residual.free_symbols)
+            referenced.update(s.name for s in free_symbols(equation.residual))   # memoized: alias reuses it
         defaults = {p.name: p.default for p in parameters}
         stack = [name for name in referenced if name in defaults]
         while stack:

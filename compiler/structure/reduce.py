@@ -13,7 +13,7 @@ from compiler.structure.alias import AliasResult, eliminate_aliases
 from compiler.structure.causalize import Causalization, causalize
 from compiler.structure.derivative_rank import RankReport, remove_derivative_dependencies
 from compiler.structure.diagnostics import structural_singularity_error
-from compiler.structure.differentiate import partial
+from compiler.structure.differentiate import free_symbols, partial
 from compiler.structure.dummy_derivatives import DummySelection, base_variable, select_dummy_derivatives
 from compiler.structure.index_reduction import IndexReductionReport, reduce_index
 from compiler.structure.indexed import IndexedSystem, build_indexed
@@ -63,7 +63,7 @@ def analyse(flat: FlatSystem) -> Analysis:
 
 def _occurring_derivatives(derivatives: dict[str, str], residuals: list[sympy.Expr]) -> dict[str, str]:
     """Derivatives that some equation still contains (and the lower ones of their chains)."""
-    occurring = {s.name for r in residuals for s in r.free_symbols}
+    occurring = {s.name for r in residuals for s in free_symbols(r)}
     keep = {d for d in derivatives if d in occurring}
     changed = True
     while changed:
@@ -188,7 +188,7 @@ def _shared_xreplace(rule: dict):
 def _priorities(flat: FlatSystem, alias: AliasResult) -> dict[str, int]:
     priorities = {v.name: v.state_priority for v in flat.variables}
     for name, expr in alias.eliminated.items():
-        kept = [s.name for s in expr.free_symbols if s.name in priorities]
+        kept = [s.name for s in free_symbols(expr) if s.name in priorities]
         if len(kept) == 1 and priorities[name] > priorities[kept[0]]:
             priorities[kept[0]] = priorities[name]
     return priorities
