@@ -33,6 +33,10 @@ _NODE_TYPES = {name: cls for name, cls in vars(ast).items()
                if isinstance(cls, type) and dataclasses.is_dataclass(cls) and cls.__module__ == ast.__name__}
 _FIELDS = {cls: tuple(f.name for f in dataclasses.fields(cls)) for cls in _NODE_TYPES.values()}
 _REVERSED_FIELDS = {cls: names[::-1] for cls, names in _FIELDS.items()}
+# Built by __init__ (slower) only where __init__ does more than set the fields.
+_NEEDS_INIT = frozenset(cls for cls in _NODE_TYPES.values()
+                        if hasattr(cls, "__post_init__") or hasattr(cls, "__slots__")
+                        or any(not f.init for f in dataclasses.fields(cls)))
 _SCALAR_TYPES = frozenset(_SCALARS)
 
 
@@ -82,8 +86,9 @@ def encode(tree: ast.File) -> bytes:
                 write([SHARED, number])
             else:
                 push(_Build(value))
-                fields = value.__dict__
-                extend([fields[name] for name in _REVERSED_FIELDS[kind]])
+                fields = value.__dict__ if kind not in _NEEDS_INIT else None
+                extend([fields[name] if fields is not None else getattr(value, name)
+                        for name in _REVERSED_FIELDS[kind]])
         elif isinstance(value, _SCALARS):         # a str subclass (a lark Token) is written as str
             write(value)
         else:
@@ -130,8 +135,11 @@ def _run(items: list, classes: list, path: str):
             count = len(fields)
             values = stack[len(stack) - count:] if count else []
             del stack[len(stack) - count:]
-            node = new(cls)
-            node.__dict__.update(zip(fields, values))     # frozen: fields set as __init__ would
+            if cls in _NEEDS_INIT:
+                node = cls(*values)
+            else:
+                node = new(cls)
+                node.__dict__.update(zip(fields, values))     # frozen: fields set as __init__ would
             nodes.append(node)
             push(node)
         elif kind == SPAN:
