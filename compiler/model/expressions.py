@@ -27,7 +27,7 @@ from compiler.errors import DyadError, Span
 from compiler.model.flat import TIME, der_name
 from compiler.model.functions import PI, FunctionCallError, as_array, is_array
 from compiler.model.julia_functions import MAX_CALL_DEPTH, JuliaFunction
-from compiler.model.julia_objects import opaque_call
+from compiler.model.julia_objects import object_call
 from compiler.model.size_limits import check_elements, check_shape, checked_power, range_length
 from compiler.syntax import ast
 
@@ -643,11 +643,11 @@ def _call(expr: ast.Call, scope: EvalScope, mode: Mode) -> Any:
                 raise DyadError(f"enum members with fields (`{name}(...)`) are not supported yet",
                                 span)
             return member
-    if mode is Mode.SYMBOLIC:       # a function of a medium: opaque (compiler/model/julia_objects.py)
-        opaque = opaque_call(name, lex.package, expr, scope.node,
-                             lambda arg: _num(evaluate(arg, scope, mode), span))
-        if opaque is not None:
-            return opaque
+    if mode is Mode.SYMBOLIC:       # a function of a medium (compiler/model/julia_objects.py)
+        value = object_call(expr, scope, lambda arg, at: _num(evaluate(arg, at, mode), span),
+                            lambda function, args: _julia_call(function, args, expr, scope, mode))
+        if value is not None:
+            return value
     impl = lex.library.resolve_function(name, lex.package, lex.file, span)
     args = [_num(evaluate(a, scope, mode), span) for a in expr.args]
     if isinstance(impl, JuliaFunction):

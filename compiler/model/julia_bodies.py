@@ -4,12 +4,15 @@ without `else` falls through to what follows), with Julia's chained comparisons 
 as `a < b && b < c`, and trailing parameters with default values."""
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 
 from compiler.model.julia_source import ASSIGNMENT, BLOCK_OPENERS, PARAMETER, Unreadable, \
     expression, first_word, statements as split_statements
 from compiler.syntax import ast
 
+_TYPE = re.compile(r"::\s*([\w.]+)")
+_UNPACK = re.compile(r"^@unpack\s+([\w\s,]+?)\s*=\s*(\w+)$")
 MAX_CALL_DEPTH = 32                   # a function calling itself would never stop being inlined
 
 
@@ -23,6 +26,10 @@ class JuliaFunction:
     line: int
     # trailing parameters with a default value (`delta = 1`), in order; also in `parameters`
     defaults: tuple[tuple[str, ast.Expr], ...] = ()
+    # `@unpack a, b = medium`: (a, medium), ...: fields of an object argument, bound by the caller
+    # that knows the object (compiler/model/julia_objects.py)
+    unpacks: tuple[tuple[str, str], ...] = ()
+    types: tuple[str | None, ...] = ()          # each parameter's `::Type`, None if untyped
 
     def accepts(self, count: int) -> bool:
         return len(self.parameters) - len(self.defaults) <= count <= len(self.parameters)
@@ -41,6 +48,7 @@ def read_function(name, head, body, text, body_offset, path, line) -> JuliaFunct
     if ";" in head:
         raise Unreadable("it has keyword arguments")
     parameters: list[str] = []
+    types: list[str | None] = []
     defaults: list[tuple[str, ast.Expr]] = []
     head_offset = text.rfind(head, 0, body_offset)
     for item in filter(str.strip, head.split(",")):
@@ -55,8 +63,11 @@ def read_function(name, head, body, text, body_offset, path, line) -> JuliaFunct
         elif defaults:
             raise Unreadable(f"parameter `{match[1]}` without a default follows one with a default")
         parameters.append(match[1])
+        typed = _TYPE.search(name_part)
+        types.append(typed[1] if typed else None)
     known = set(parameters)
     locals_: list[tuple[str, ast.Expr]] = []
+    unpacks: list[tuple[str, str]] = []
     statements = list(split_statements(body, body_offset))
     index = 0
     while index < len(statements):
@@ -66,7 +77,15 @@ def read_function(name, head, body, text, body_offset, path, line) -> JuliaFunct
         if first in ("if", "return") or index == len(statements) - 1:
             result = _tail_value(statements[index:], text, path, known)
             return JuliaFunction(name, tuple(parameters), tuple(locals_), result, path, line,
-                                 tuple(defaults))
+                                 tuple(defaults), tuple(unpacks), tuple(types))
+        unpack = _UNPACK.match(stripped)
+        if unpack and unpack[2] in parameters and not locals_:
+            # the fields of an argument, read before any local so that the caller can bind them
+            for field_name in (n.strip() for n in unpack[1].split(",")):
+                unpacks.append((field_name, unpack[2]))
+                known.add(field_name)
+            index += 1
+            continue
         if first in BLOCK_OPENERS | {"local", "global", "const", "elseif", "else"}:
             raise Unreadable(f"it uses `{first}`")
         assignment = ASSIGNMENT.match(statement)

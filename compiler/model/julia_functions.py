@@ -59,7 +59,7 @@ def read_julia_functions(path: Path, package: str) -> dict[str, JuliaFunction | 
     """Every top-level function of one Julia file, by qualified name (`package.name`)."""
     text = path.read_text(encoding="utf-8", errors="replace")
     out: dict[str, JuliaFunction | UnreadableFunction] = {}
-    for name, head, body, offset in _top_level_functions(text):
+    for name, head, body, offset in top_level_functions(text):
         line = text.count("\n", 0, offset) + 1
         qualified = f"{package}.{name}"
         if qualified in out:
@@ -75,7 +75,7 @@ def read_julia_functions(path: Path, package: str) -> dict[str, JuliaFunction | 
     return out
 
 
-def _top_level_functions(text: str):
+def top_level_functions(text: str):
     """(name, parameter text, body text and its offset) of each top-level function: the long form
     `function f(args) ... end` and the short form `f(args) = expr` at the start of a line."""
     depth, bracket, start = 0, 0, None

@@ -2,19 +2,27 @@
 
 Dyad carries a medium along a connected path (`path medium::AbstractMedium` in a connector) and
 its libraries compute with it in Julia: `rho = density(port.medium, p)`, where Julia picks the
-method of `density` by the medium's type. dyadc cannot evaluate such a call, but the call's
-structure is plain: one value that depends on its numeric arguments. So the call becomes an
-opaque function of those arguments (`density(p)`), which is enough for balance, matching and
-`dyadc check`; a run refuses the model with the call named (`opaque_calls`,
-compiler/model/model_check.py).
+method of `density` by the medium's type. The medium itself is declared once, in the model that
+closes the path, and joined to a port with `continuity`:
+
+    path medium::AbstractMedium = Oil(bulk_modulus = 1e9)
+    continuity(medium, tank.port.medium)
+
+When the path holds such a declaration and the medium is a Julia struct of the package
+(compiler/model/julia_methods.py), the call is evaluated: the method typed with the struct (or
+its supertype) is inlined with the medium's field values (`@unpack` in its body). Otherwise (a
+component checked alone, with its ports open) the call becomes an opaque function of its numeric
+arguments: enough for balance, matching and `dyadc check`, while a run refuses the model with
+the call named (`opaque_calls`, compiler/model/model_check.py).
 """
 from __future__ import annotations
 
-from typing import Any
+from typing import Any, Callable
 
-import sympy
 from sympy.core.function import AppliedUndef, UndefinedFunction
 
+from compiler.errors import DyadError
+from compiler.model.julia_media import Medium, medium_of
 from compiler.syntax import ast
 
 
@@ -34,22 +42,59 @@ def path_field_of(ref: ast.Expr, node: Any) -> str | None:
     return ref.dotted if ref.parts[-1].name in getattr(node, "path_fields", {}) else None
 
 
-def opaque_call(name: str, package: str, call: ast.Call, node: Any, evaluate_argument) -> Any:
-    """The call as an opaque function of its numeric arguments when some argument is a `path`
-    field, else None (an ordinary call). `evaluate_argument(expr)` gives an argument's value."""
+def object_call(call: ast.Call, scope: Any, evaluate_in: Callable[[ast.Expr, Any], Any],
+                inline: Callable[[Any, list], Any]) -> Any:
+    """The value of a call with a `path` field among its arguments, else None (an ordinary
+    call). `evaluate_in(expr, scope)` gives a value, `inline(function, arguments)` inlines a read
+    Julia function."""
+    node, lexical = scope.node, scope.lexical
     objects = [path_field_of(arg, node) for arg in call.args]
-    if not any(objects) or call.kwargs:
+    if not any(objects):
         return None
-    qualified = name if "." in name or not package else f"{package}.{name}"
-    numeric = [evaluate_argument(arg) for arg, obj in zip(call.args, objects) if obj is None]
-    function = UndefinedFunction(qualified, bases=(OpaqueJuliaCall,))
-    return function(*numeric)
+    if call.kwargs:
+        raise DyadError(f"`{call.function}` with a medium takes no keyword arguments", call.span)
+    numeric = [evaluate_in(arg, scope) for arg, obj in zip(call.args, objects) if obj is None]
+    position = next(i for i, obj in enumerate(objects) if obj)
+    medium = medium_of(node, objects[position], lexical, evaluate_in)
+    if medium is None or sum(1 for obj in objects if obj) > 1:
+        package = lexical.package
+        qualified = call.function if "." in call.function or not package \
+            else f"{package}.{call.function}"
+        return UndefinedFunction(qualified, bases=(OpaqueJuliaCall,))(*numeric)
+    method = medium.method(call.function, position, call.span)
+    return inline(_specialized(method, position, call.span),
+                  [medium.values[field] for field, _ in method.unpacks] + numeric)
+
+
+def _specialized(method, position: int, span) -> Any:
+    """The method with its object parameter replaced by the fields it unpacks, which become its
+    first parameters (the caller passes their values)."""
+    from dataclasses import replace
+    object_name = method.parameters[position]
+    if any(source != object_name for _, source in method.unpacks) or _uses(method, object_name):
+        raise DyadError(f"`{method.name}` ({method.file}:{method.line}) uses its medium "
+                        f"`{object_name}` other than by `@unpack`, which dyadc cannot follow", span)
+    rest = tuple(p for i, p in enumerate(method.parameters) if i != position)
+    return replace(method, parameters=tuple(field for field, _ in method.unpacks) + rest,
+                   types=(), unpacks=())
+
+
+def _uses(method, name: str) -> bool:
+    from compiler.model.julia_source import refs
+    shadowed = {field for field, _ in method.unpacks} | {local for local, _ in method.locals}
+    if name in shadowed:
+        return False
+    bodies = [value for _, value in method.locals] + [method.result]
+    return any(ref.parts[0].name == name for body in bodies for ref in refs(body))
 
 
 def opaque_calls(expressions) -> list[str]:
     """Names of the opaque calls in some sympy expressions, sorted, each once."""
     found: set[str] = set()
     for expr in expressions:
-        if isinstance(expr, sympy.Basic) and expr.has(OpaqueJuliaCall):
+        if hasattr(expr, "has") and expr.has(OpaqueJuliaCall):
             found.update(type(call).__name__ for call in expr.atoms(OpaqueJuliaCall))
     return sorted(found)
+
+
+__all__ = ["Medium", "OpaqueJuliaCall", "object_call", "opaque_calls", "path_field_of"]

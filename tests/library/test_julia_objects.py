@@ -9,17 +9,41 @@ from pathlib import Path
 import pytest
 import sympy
 
+from compiler.api import simulate
 from compiler.errors import DyadError
 from compiler.model.flatten import flatten_model
 from compiler.model.julia_objects import OpaqueJuliaCall, opaque_calls
 from compiler.model.model_check import assess, require_standalone
 
-# two methods chosen by the medium's type: dyadc never needs to pick one
+# methods chosen by the medium's type: a call with an unknown medium never picks one, a call with
+# a declared medium picks the one Julia would
 JULIA = '''
-struct Water end
-struct Oil end
-density(medium::Water, p) = 1000 + p / 1e6
-density(medium::Oil, p) = 850 + p / 1e6
+abstract type Liquid end
+
+@kwdef struct Water <: Liquid
+  rho0 = 1000     # kg/m3
+  beta = 2e9
+end
+
+Base.@kwdef struct Oil <: Liquid
+  rho0 = 850
+  beta = 1.5e9
+  heavy = false
+end
+
+@kwdef struct Air
+  rho0 = 1.2
+end
+
+function density(medium::Water, p)
+  @unpack rho0, beta = medium
+  return rho0 * (1 + p / beta)
+end
+
+function density(medium::Oil, p)
+  @unpack rho0, beta, heavy = medium
+  return ifelse(heavy, 2 * rho0, rho0) * (1 + p / beta)
+end
 '''
 
 DYAD = '''
@@ -52,8 +76,34 @@ component Plant
   source = Source()
   tank = Tank()
 relations
-  initial tank.m = 2000
   connect(source.port, tank.port)
+end
+
+component WaterPlant
+  source = Source()
+  tank = Tank()
+  path medium::Medium = Water()
+relations
+  connect(source.port, tank.port)
+  continuity(medium, source.port.medium)
+end
+
+component HeavyOilPlant
+  source = Source()
+  tank = Tank()
+  path medium::Medium = Oil(heavy = true, beta = 1e9)
+relations
+  connect(source.port, tank.port)
+  continuity(medium, source.port.medium)
+end
+
+component AirPlant
+  source = Source()
+  tank = Tank()
+  path medium::Medium = Air()
+relations
+  connect(source.port, tank.port)
+  continuity(medium, tank.port.medium)
 end
 
 component ReadsTheMedium
@@ -114,3 +164,24 @@ def test_reading_the_medium_as_a_number_is_still_an_error(project):
     model, lib = project
     with pytest.raises(DyadError, match="is a `path` field"):
         flatten_model(f"{model}:ReadsTheMedium", [str(lib)])
+
+
+@pytest.mark.parametrize("model, density_at", [
+    ("WaterPlant", lambda p: 1000 * (1 + p / 2e9)),
+    ("HeavyOilPlant", lambda p: 2 * 850 * (1 + p / 1e9)),       # fields given override defaults
+])
+def test_a_declared_medium_picks_the_method_of_its_type(project, model, density_at):
+    path, lib = project
+    result = simulate(f"{path}:{model}", stop=2.0, lib_dirs=[str(lib)], rtol=1e-9, atol=1e-9)
+    for k in (0, -1):
+        p = 1e5 + 1e4 * result.time[k]
+        assert result["tank.rho"][k] == pytest.approx(density_at(p), rel=1e-12)
+    # the tank's mass grows with the density: der(m) = volume * rho0' * 1e4 / beta
+    assert result["tank.port.m_flow"][-1] == pytest.approx(
+        2 * (density_at(1e5 + 1e4) - density_at(1e5)) / 1e4 * 1e4, rel=1e-6)
+
+
+def test_a_medium_without_a_method_is_a_located_error(project):
+    model, lib = project
+    with pytest.raises(DyadError, match="`density` has no method for a medium of type `Air`"):
+        flatten_model(f"{model}:AirPlant", [str(lib)])
