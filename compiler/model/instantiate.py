@@ -516,9 +516,9 @@ class Instance:
             raise DyadError(f"`{join_path(self.path, name)}` is disabled by its condition", span,
                             notes=[Note("declared here", self.disabled[name])])
         if name in self.path_fields:
-            raise DyadError(f"`{join_path(self.path, name)}` is a `path` field: its value (e.g. a "
-                            f"medium defined in Julia) is carried along connections but dyadc "
-                            f"cannot compute with it", span,
+            raise DyadError(f"`{join_path(self.path, name)}` is a Julia object (a `path` field or "
+                            f"a `Native` parameter: a medium, a dataset): dyadc passes it to "
+                            f"functions but cannot compute with it", span,
                             notes=[Note("declared here", self.path_fields[name])],
                             hint="functions of a medium (density, viscosity, ...) need Dyad's "
                                  "Julia runtime")
@@ -640,6 +640,10 @@ def _instantiate(model: Model, resolved: Resolved, path: str, parent: Instance |
                                         element.lexical.file)
             if found is not None:       # a record of parameters: built as a nested instance below
                 struct_parameters[element.name] = found
+                continue
+            if structs.is_julia_object(model.library, element.decl.type, element.lexical.package,
+                                       element.lexical.file):
+                node.path_fields[element.name] = element.decl.span  # opaque: julia_objects.py
                 continue
             node.parameters[element.name] = ParameterInstance(node, element, entries_for(element))
     for element in template.elements:

@@ -49,6 +49,10 @@ def object_call(call: ast.Call, scope: Any, evaluate_in: Callable[[ast.Expr, Any
     Julia function."""
     node, lexical = scope.node, scope.lexical
     objects = [path_field_of(arg, node) for arg in call.args]
+    if "." not in call.function and call.function in getattr(node, "path_fields", {}):
+        # a call through a Julia object (an interpolator): a function of its numeric arguments
+        numeric = [evaluate_in(arg, scope) for arg, obj in zip(call.args, objects) if obj is None]
+        return UndefinedFunction(call.function, bases=(OpaqueJuliaCall,))(*numeric)
     if not any(objects):
         return None
     if call.kwargs:

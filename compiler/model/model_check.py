@@ -74,15 +74,16 @@ class Verdict:
         if not self.julia_object_calls:
             return ""
         return (f"; dyadc cannot simulate it: {_calls(self.julia_object_calls)} of a Julia "
-                f"object (a `path` field such as a fluid medium), kept opaque for these checks")
+                f"object (a medium, a dataset, an interpolator), kept opaque for these checks")
 
     def julia_object_error(self) -> DyadError:
         return DyadError(f"`{self.model}` cannot be simulated by dyadc: it calls "
-                         f"{_calls(self.julia_object_calls)} with a Julia object (a `path` field "
-                         f"such as a fluid medium) whose value dyadc cannot represent",
+                         f"{_calls(self.julia_object_calls)} with a Julia object (a medium, a "
+                         f"dataset, an interpolator) whose value dyadc cannot represent",
                          self.julia_object_span,
                          hint="`dyadc check` still checks its structure; a run needs Dyad's Julia "
-                              "runtime, or the medium's formulas written in Dyad")
+                              "runtime, or a medium declared in the model (`path medium::M = "
+                              "Struct(...)`) whose Julia struct and methods dyadc can read")
 
     def error(self) -> DyadError:
         """Why `simulate` refuses a partial model: what is open, and (as a note) what goes wrong

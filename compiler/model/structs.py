@@ -57,6 +57,27 @@ def struct_type(library, spec: ast.TypeSpec, package: str, file) -> StructType |
     return StructType(found, tuple(mods))
 
 
+def is_julia_object(library, spec: ast.TypeSpec, package: str, file) -> bool:
+    """Is a parameter of this type a Julia object dyadc keeps opaque: `Native` (a dataset, an
+    interpolator), directly or through aliases, or a function type (`func(::Real)::Real`)?"""
+    depth = 0
+    while depth <= MAX_ALIAS_DEPTH:
+        if spec.name in ("Native", "Dyad.Native"):
+            return True
+        if spec.name in ("Real", "Integer", "Boolean", "String"):
+            return False
+        found = library.lookup(spec.name, package, file)
+        if found is None:
+            return False
+        if isinstance(found.definition, ast.FunctionTypeDef):
+            return True
+        if not isinstance(found.definition, ast.TypeDef):
+            return False
+        spec, package, file = found.definition.base, found.package, found.file
+        depth += 1
+    return False
+
+
 def as_component(struct: ast.StructDef) -> ast.ComponentDef:
     """The struct as a component whose declarations are its fields, as parameters."""
     for field_decl in struct.fields:

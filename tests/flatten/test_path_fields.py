@@ -72,7 +72,7 @@ relations
   rho = 2 * port.fluid
 end
 """, "Model", marker="rho = 2 * port.fluid")
-    assert "`port.fluid` is a `path` field" in err.message
+    assert "`port.fluid` is a Julia object" in err.message
 
 
 def test_stream_fields_are_not_supported_yet(sources):
@@ -92,7 +92,7 @@ end
     assert "`stream` connector fields are not supported yet" in err.message
 
 
-def test_a_native_parameter_says_dyadc_cannot_represent_it(sources):
+def test_a_native_parameter_says_dyadc_cannot_compute_with_it(sources):
     err = sources.error("""
 type Table = Native
 
@@ -100,7 +100,7 @@ component Model
   parameter data::Table
   variable y::Real
 relations
-  y = 1
+  y = data
 end
-""", "Model", marker="type Table")
-    assert "`Native` value is a Julia object" in err.message
+""", "Model", marker="y = data")
+    assert "`data` is a Julia object" in err.message

@@ -162,7 +162,7 @@ def test_a_run_refuses_it_at_the_call(project):
 
 def test_reading_the_medium_as_a_number_is_still_an_error(project):
     model, lib = project
-    with pytest.raises(DyadError, match="is a `path` field"):
+    with pytest.raises(DyadError, match="`port.medium` is a Julia object"):
         flatten_model(f"{model}:ReadsTheMedium", [str(lib)])
 
 
@@ -185,3 +185,31 @@ def test_a_medium_without_a_method_is_a_located_error(project):
     model, lib = project
     with pytest.raises(DyadError, match="`density` has no method for a medium of type `Air`"):
         flatten_model(f"{model}:AirPlant", [str(lib)])
+
+
+LOOKUP = '''
+type Table = Native
+type Curve = func(::Real)::Real
+
+component Lookup
+  structural parameter table::Table
+  final parameter curve::Curve = make_curve(table)
+  variable u::Real
+  variable y::Real
+relations
+  u = 2 * time
+  y = curve(u)
+end
+'''
+
+
+def test_a_native_or_function_typed_parameter_is_an_opaque_object(tmp_path):
+    path = tmp_path / "lookup.dyad"
+    path.write_text(LOOKUP, encoding="utf-8")
+    flat = flatten_model(f"{path}:Lookup", [])
+    calls = [a for e in flat.equations for a in e.residual.atoms(OpaqueJuliaCall)]
+    assert [(type(c).__name__, c.args) for c in calls] == [("curve", (sympy.Symbol("u"),))]
+    verdict = assess(flat)
+    assert verdict.describe().startswith("balanced: 2 equations, 2 unknowns; dyadc cannot simulate")
+    with pytest.raises(DyadError, match="calls function `curve` with a Julia object"):
+        require_standalone(flat)
