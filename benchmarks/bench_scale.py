@@ -269,7 +269,7 @@ def write_compile_section(before: str, after: str, notes: str, before_title: str
                "The chain of benchmarks/suite/chain_model.py (World + N x (Revolute + BodyShape)); one "
                "process per run, warmed up on N = 1; `structure` is everything between flattening and "
                "lowering, `lower` includes the state-set check; `compile` = parse + flatten + structure + "
-               f"lower. CPU seconds, median of {runs} runs per N. Machine: "
+               f"lower. CPU seconds, median of {runs} runs per N. Machine (at report time): "
                + ", ".join(f"{k} {v}" for k, v in describe().items()) + ".", ""]
     section += compile_table(_median_rows(before), before_title)
     section += compile_table(_median_rows(after), after_title)
