@@ -120,7 +120,9 @@ class Runner:
             return {**entry, "verdict": "fail", "reason": error}
         status = {line.strip().split(":", 1)[0] for line in out.splitlines()}
         verdict = "external" if "external" in status else "partial" if "partial" in status else "ok"
-        return {**entry, "verdict": verdict, "reason": ""}
+        # a call with a Julia object dyadc keeps opaque (a medium it cannot build, a dataset)
+        opaque = "dyadc cannot simulate it" in out
+        return {**entry, "verdict": verdict, "reason": "", "julia_objects": opaque}
 
     # ---------------------------------------------------------------------------- test cases
 

@@ -115,6 +115,7 @@ def totals(results: list[dict]) -> dict[str, tuple[int, int]]:
         "checked": (sum(c["verdict"] != "fail" for c in components), len(components)),
         "partial": (sum(c["verdict"] == "partial" for c in components), len(components)),
         "external": (sum(c["verdict"] == "external" for c in components), len(components)),
+        "julia_objects": (sum(bool(c.get("julia_objects")) for c in components), len(components)),
         "explained": (len(explained(results)), len(components)),
         "checked_or_explained": (sum(c["verdict"] != "fail" for c in components)
                                  + len(explained(results)), len(components)),
@@ -183,7 +184,10 @@ def markdown(results: list[dict], libraries: list, command: str, seconds: float,
         "(plain, `partial`, `test`, `example`, `external`); a `partial: balanced as a component, "
         "N open connectors` verdict (a library part that cannot run alone) and an `external: "
         "interface only` verdict (an `external component`, whose equations are Julia code) count "
-        "as checked. A component that fails because its published source is inconsistent "
+        "as checked; so does a check whose structure holds but that calls a Julia object dyadc "
+        "keeps opaque (a medium it cannot build, a dataset, an interpolator: \"dyadc cannot "
+        "simulate it\"), counted on its own line below. "
+        "A component that fails because its published source is inconsistent "
         "(unbalanced, mis-sized, naming something undefined) counts as *explained* when a reviewed "
         "entry of benchmarks/compat_explained.py names the culprit and dyadc's error still says "
         "what that entry expects; explained components are listed with their culprit and are "
@@ -220,6 +224,7 @@ def markdown(results: list[dict], libraries: list, command: str, seconds: float,
         _row("components checked", count["checked"], TARGETS["checked"]),
         _row("  of which partial (open connectors)", count["partial"], None),
         _row("  of which external (interface only)", count["external"], None),
+        _row("  of which calling Julia objects kept opaque (cannot run)", count["julia_objects"], None),
         _row("components not checked, explained by an error in the published source",
              count["explained"], None),
         _row("components checked or explained", count["checked_or_explained"], None),
