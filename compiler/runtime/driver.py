@@ -68,6 +68,7 @@ class _Run:
         self.events: list[dict] = []
         self.switches: list[dict] = []
         self.integrators: dict[tuple, tuple] = {}
+        self.parameter_vectors: dict[int, np.ndarray] = {}    # per state set, read-only
         self.pending: dict[int, tuple] = {}
         self.forced_ends: set[float] = set()
         self.retry: tuple | None = None

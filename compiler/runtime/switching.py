@@ -44,7 +44,9 @@ def switch_state_set(run, model: CompiledModel, values: Mapping[str, float], t: 
     quality, _ = state_selection_quality(model.state_sets, column)
     run.switches.append({"time": float(t), "from": list(model.state_names), "to": list(new.state_names),
                          "degraded": dummies, "quality": float(quality)})
-    p_new = new.parameter_vector(run.options.params)
+    p_new = run.parameter_vectors.get(id(new))        # the same for every visit of a state set
+    if p_new is None:
+        p_new = run.parameter_vectors[id(new)] = new.parameter_vector(run.options.params)
     x_target = np.array([values[n] for n in new.state_names])
     z_guess = np.array([values.get(n, 0.0) for n in new.algebraic_names])
     point = restart_point(new, p_new, t, x_target, z_guess)
