@@ -49,6 +49,15 @@ def object_call(call: ast.Call, scope: Any, evaluate_in: Callable[[ast.Expr, Any
     Julia function."""
     node, lexical = scope.node, scope.lexical
     objects = [path_field_of(arg, node) for arg in call.args]
+    if any(objects) or call.function in getattr(node, "path_fields", {}):
+        scalar = evaluate_in
+
+        def evaluate_in(arg, at):           # noqa: F811 - the same, refusing arrays
+            value = scalar(arg, at)
+            if hasattr(value, "shape") and getattr(value, "shape", ()) != ():
+                raise DyadError(f"`{call.function}` with a Julia object takes scalar arguments",
+                                getattr(arg, "span", None) or call.span)
+            return value
     if "." not in call.function and call.function in getattr(node, "path_fields", {}):
         # a call through a Julia object (an interpolator): a function of its numeric arguments
         numeric = [evaluate_in(arg, scope) for arg, obj in zip(call.args, objects) if obj is None]

@@ -213,3 +213,11 @@ def test_a_native_or_function_typed_parameter_is_an_opaque_object(tmp_path):
     assert verdict.describe().startswith("balanced: 2 equations, 2 unknowns; dyadc cannot simulate")
     with pytest.raises(DyadError, match="calls function `curve` with a Julia object"):
         require_standalone(flat)
+
+
+def test_an_array_argument_beside_a_julia_object_is_a_located_error(tmp_path):
+    path = tmp_path / "lookup.dyad"
+    path.write_text(LOOKUP.replace("y = curve(u)", "y = curve([u, u])"), encoding="utf-8")
+    with pytest.raises(DyadError, match="`curve` with a Julia object takes scalar arguments") as info:
+        flatten_model(f"{path}:Lookup", [])
+    assert info.value.span is not None and info.value.span.line == 12
