@@ -49,15 +49,7 @@ def object_call(call: ast.Call, scope: Any, evaluate_in: Callable[[ast.Expr, Any
     Julia function."""
     node, lexical = scope.node, scope.lexical
     objects = [path_field_of(arg, node) for arg in call.args]
-    if any(objects) or call.function in getattr(node, "path_fields", {}):
-        scalar = evaluate_in
-
-        def evaluate_in(arg, at):           # noqa: F811 - the same, refusing arrays
-            value = scalar(arg, at)
-            if hasattr(value, "shape") and getattr(value, "shape", ()) != ():
-                raise DyadError(f"`{call.function}` with a Julia object takes scalar arguments",
-                                getattr(arg, "span", None) or call.span)
-            return value
+    evaluate_in = _scalars_only(evaluate_in, call)
     if "." not in call.function and call.function in getattr(node, "path_fields", {}):
         # a call through a Julia object (an interpolator): a function of its numeric arguments
         numeric = [evaluate_in(arg, scope) for arg, obj in zip(call.args, objects) if obj is None]
@@ -77,6 +69,17 @@ def object_call(call: ast.Call, scope: Any, evaluate_in: Callable[[ast.Expr, Any
     method = medium.method(call.function, position, call.span)
     return inline(_specialized(method, position, call.span),
                   [medium.values[field] for field, _ in method.unpacks] + numeric)
+
+
+def _scalars_only(evaluate_in: Callable[[ast.Expr, Any], Any], call: ast.Call):
+    """`evaluate_in`, refusing array values: an opaque call or a medium's field is a scalar."""
+    def evaluate(arg: ast.Expr, at: Any) -> Any:
+        value = evaluate_in(arg, at)
+        if getattr(value, "shape", ()) != ():
+            raise DyadError(f"`{call.function}` with a Julia object takes scalar arguments",
+                            getattr(arg, "span", None) or call.span)
+        return value
+    return evaluate
 
 
 def _specialized(method, position: int, span) -> Any:
