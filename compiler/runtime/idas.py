@@ -161,8 +161,8 @@ def integrator_options(model: CompiledModel, rtol: float, atol, max_steps: int,
         opts["abstol"] = base
     else:
         opts["abstol"] = float(atol)
-    from .linear_solver import linear_solver_options      # CSparse's LU on large models
-    opts.update(linear_solver_options(len(names)))
+    from .linear_solver import linear_solver_options      # CSparse's LU on large dense models
+    opts.update(linear_solver_options(len(names), model))
     opts.update(extra or {})
     return opts
 

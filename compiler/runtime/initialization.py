@@ -139,6 +139,10 @@ def consistent_initialization(model: CompiledModel, p: np.ndarray, t0: float, *,
         return np.asarray(r_, dtype=float).reshape(-1), np.asarray(ca.densify(j_), dtype=float)
 
     w0 = np.concatenate([model.x_guess, model.z_guess]).astype(float)
+    from .linear_solver import sparse_initial_point      # large sparse systems: sparse Newton
+    sparse = sparse_initial_point(fun, nx, p, t0, w0, tol)
+    if sparse is not None:
+        return InitialPoint(sparse[0][:nx].copy(), sparse[0][nx:].copy(), sparse[1], sparse[2])
     w, r, jac, iterations = _levenberg_marquardt(evaluate, w0, tol, max_iterations)
     w, r, jac = _polished(evaluate, w, r, jac)
     measure = _scaled_residual(r, jac, w)

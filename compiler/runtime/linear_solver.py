@@ -1,30 +1,141 @@
-"""Which linear solver IDAS's Newton iteration uses, chosen from the size of the model.
+"""Which linear solver IDAS's Newton iteration uses, chosen from the size and the sparsity of the
+model's Jacobian; and Newton solves on large sparse systems outside IDAS.
 
 CasADi's IDAS factorizes the iteration matrix dF/dy' * c + dF/dy with one of CasADi's linear
-solver plugins (option `linear_solver`; its default is CasADi's own sparse QR, "qr"). Measured
-on the N-link pendulum chain (benchmarks/bench_scale.py linsol, table in docs/scaling.md; CPU
-time of a 0.5 s run at rtol 1e-6): with 24 unknowns all direct solvers are within 2 % (noise);
-with 48 CSparse's LU and LAPACK's dense LU are 7-9 % faster than the default; with 96 and 192
-CSparse is 23 % and 49 % faster, dense LU 16 % and 40 % (and falls further behind above: the
-Jacobian has a third of its entries filled, but LAPACK here is reference BLAS); LAPACK QR and
-MUMPS are slower everywhere; the Krylov scheme (newton_scheme gmres) moves the trajectories by
-1e-8 where the direct solvers agree to 1e-13. So: CSparse from SPARSE_LU_FROM unknowns on, no
-dense LU (it never wins beyond noise).
-
-Below the threshold the default stays: small models (the excavator, every golden trajectory)
-keep bit-for-bit the trajectories they had. Options the caller passes (integrator_options) win.
+solver plugins (option `linear_solver`; its default is CasADi's own sparse QR, "qr", which orders
+the columns to reduce fill). Measured on the N-link pendulum chain (benchmarks/bench_scale.py
+linsol, tables in docs/scaling.md; CPU time of a 0.5 s run at rtol 1e-6):
+- torn form (3N unknowns, a third of the Jacobian filled: dense): with 24 unknowns all direct
+  solvers are within noise; from 48 on CSparse's LU is the fastest (23 % and 49 % faster than
+  the default with 96 and 192), LAPACK's dense LU close behind, LAPACK QR and MUMPS slower;
+- sparse form (compiler/structure/causalize.py: ~11N unknowns, ~11 entries per column):
+  the default QR grows as N^1.0 (0.30 s at N = 256); CSparse's LU, in the natural column order
+  CasADi gives it, fills in (7.9 s at N = 256); dense LU is 10x slower than QR at N = 16.
+- the Krylov scheme (newton_scheme gmres) moves the trajectories by 1e-8 where the direct solvers
+  agree to 1e-13: not used.
+So: the default below SPARSE_LU_FROM unknowns (small models, the excavator, every golden
+trajectory keep their trajectories bit for bit) and for sparse Jacobians; CSparse for large
+dense ones. Options the caller passes (integrator_options) win.
 """
 from __future__ import annotations
 
 import casadi as ca
+import numpy as np
 
-# Unknowns (states + IDAS algebraics) from which CSparse's LU replaces CasADi's default QR.
+# Unknowns (states + IDAS algebraics) from which the Jacobian's sparsity decides.
 SPARSE_LU_FROM = 40
 SPARSE_LU = "csparse"
+# Structural density of d[ode; alg]/d[x; z] below which the Jacobian counts as sparse: CasADi's
+# QR (fill-reducing order) stays; at or above, CSparse's LU. The torn chain has 0.33-0.37, the
+# sparse form 0.004-0.065 (N = 16 ... 256).
+SPARSE_BELOW = 0.1
+# Newton solves outside IDAS (initialization, polishing) go sparse from this many unknowns.
+SPARSE_NEWTON_FROM = 100
 
 
-def linear_solver_options(n_unknowns: int) -> dict:
+def linear_solver_options(n_unknowns: int, model=None) -> dict:
     """IDAS options for a DAE with `n_unknowns` unknowns: {} keeps CasADi's default."""
-    if n_unknowns >= SPARSE_LU_FROM and ca.has_linsol(SPARSE_LU):
-        return {"linear_solver": SPARSE_LU}
-    return {}
+    if n_unknowns < SPARSE_LU_FROM or not ca.has_linsol(SPARSE_LU):
+        return {}
+    if model is not None and jacobian_density(model) < SPARSE_BELOW:
+        return {}
+    return {"linear_solver": SPARSE_LU}
+
+
+def jacobian_density(model) -> float:
+    """Structural density of the DAE's Jacobian d[ode; alg]/d[x; z] (kept per model)."""
+    def build() -> float:
+        nx, nz, _ = model.sizes
+        if nx + nz == 0:
+            return 0.0
+        x, z, p, t = model.symbols()
+        ode, alg = model.dae(x, z, p, t)
+        pattern = ca.jacobian_sparsity(ca.vertcat(ode, alg), ca.vertcat(x, z))
+        return pattern.nnz() / float((nx + nz) ** 2)
+    return model.derived("jacobian_density", build)
+
+
+def is_large_sparse(n_unknowns: int, jacobian: ca.DM) -> bool:
+    """Whether a Newton system outside IDAS should be solved sparse (never for small models)."""
+    rows, cols = jacobian.shape
+    return n_unknowns >= SPARSE_NEWTON_FROM and rows == cols and \
+        jacobian.nnz() < SPARSE_BELOW * rows * cols
+
+
+def sparse_newton(evaluate, w: np.ndarray, tol: float, max_iterations: int = 30):
+    """Plain Newton steps on a square sparse system, solved by CasADi's sparse QR; `evaluate(w)`
+    gives (r as numpy, J as a sparse DM). Returns (w, r, J, iterations, converged), converged
+    when every |r_i| / max|J_i.| <= tol * (1 + |w|_inf) (initialization's own test)."""
+    r, jac = evaluate(w)
+    for iteration in range(max_iterations + 1):
+        if not np.all(np.isfinite(r)):
+            return w, r, jac, iteration, False
+        if np.all(np.abs(r) / _row_maxima(jac) <= tol * (1.0 + np.max(np.abs(w), initial=0.0))):
+            return w, r, jac, iteration, True
+        if iteration == max_iterations:
+            break
+        step = np.asarray(ca.solve(jac, ca.DM(r), "qr"), dtype=float).reshape(-1)
+        w = w - step
+        r, jac = evaluate(w)
+    return w, r, jac, max_iterations, False
+
+
+def _row_maxima(jac: ca.DM) -> np.ndarray:
+    values = np.abs(np.asarray(jac.nonzeros(), dtype=float))
+    rows = np.asarray(jac.sparsity().get_triplet()[0], dtype=int)
+    maxima = np.zeros(jac.shape[0])
+    np.maximum.at(maxima, rows, values)
+    return np.where(maxima > 1e-300, maxima, 1.0)
+
+
+def sparse_initial_point(init_jacobian: ca.Function, nx: int, p: np.ndarray, t0: float,
+                         w0: np.ndarray, tol: float):
+    """Consistent initialization of a large sparse square system by sparse Newton steps (the
+    dense Levenberg-Marquardt path costs O(n^3) per step and, from zero guesses, took 24 damped
+    steps on the 16-link chain's sparse form; Newton takes 3-4 at every N measured). Returns
+    (w, iterations, scaled residual) or None: small or dense systems, or no convergence (the
+    caller's Levenberg-Marquardt then starts from w0 as before)."""
+    def evaluate(w):
+        r, jac = init_jacobian(w[:nx], w[nx:], p, t0)
+        return np.asarray(r, dtype=float).reshape(-1), jac
+
+    r, jac = evaluate(np.asarray(w0, dtype=float))
+    if not is_large_sparse(len(w0), jac):
+        return None
+    w, r, jac, iterations, converged = sparse_newton(evaluate, np.asarray(w0, dtype=float), tol * 1e-3)
+    if not converged:
+        return None
+    measure = np.abs(r) / _row_maxima(jac) / (1.0 + np.max(np.abs(w), initial=0.0))
+    return w, iterations, float(np.max(measure, initial=0.0))
+
+
+def sparse_polish(model, xs: np.ndarray, zs: np.ndarray, p: np.ndarray, grid: np.ndarray,
+                  iterations: int):
+    """outputs.polish_algebraics for large sparse algebraic systems: the same Newton steps on
+    0 = alg(x, z) with the states fixed, each kept only where it does not increase the largest
+    residual, solved sparse point by point (the dense batch would hold nz^2 numbers per point).
+    None for small or dense systems (the caller's dense path)."""
+    nz, n = zs.shape
+    newton = model.algebraic_newton()
+    p = np.asarray(p, dtype=float)
+    columns = p.ndim == 2 and p.shape[1] == n and p.shape[1] > 1
+
+    def evaluate(j, z):
+        r, jac = newton(xs[:, j], z, p[:, j] if columns else p.reshape(-1), float(grid[j]))
+        return np.asarray(r, dtype=float).reshape(-1), jac
+
+    if nz < SPARSE_NEWTON_FROM or n == 0:
+        return None
+    r, jac = evaluate(0, zs[:, 0])
+    if not is_large_sparse(nz, jac):
+        return None
+    z = np.array(zs, dtype=float)
+    for j in range(n):
+        r, jac = evaluate(j, z[:, j]) if j else (r, jac)
+        for _ in range(iterations):
+            candidate = z[:, j] - np.asarray(ca.solve(jac, ca.DM(r), "qr"), dtype=float).reshape(-1)
+            r_new, jac_new = evaluate(j, candidate)
+            if not np.all(np.isfinite(r_new)) or np.max(np.abs(r_new)) > np.max(np.abs(r)):
+                break
+            z[:, j], r, jac = candidate, r_new, jac_new
+    return z

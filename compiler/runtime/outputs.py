@@ -139,6 +139,10 @@ def polish_algebraics(model: CompiledModel, xs: np.ndarray, zs: np.ndarray, p: n
     nz, n = zs.shape
     if nz == 0 or n == 0:
         return zs
+    from .linear_solver import sparse_polish      # large sparse systems: sparse, point by point
+    polished = sparse_polish(model, xs, zs, p, grid, iterations)
+    if polished is not None:
+        return polished
     z = np.array(zs, dtype=float)
     for first, last, p_run in _parameter_runs(p, n):
         z[:, first:last] = _polish_run(model, xs[:, first:last], z[:, first:last], p_run,
