@@ -398,6 +398,42 @@ def blas_on_one_thread() -> None:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """Run the command line `argv` (default: this program's arguments) and give its exit status.
+    Called as the program itself (no `argv`), it ends the process when the command is done."""
+    status = run_command(argv)
+    if argv is None:
+        exit_without_teardown(status)
+    return status
+
+
+def exit_without_teardown(status: int) -> None:
+    """End this process with `status` once its output is written and its atexit handlers ran
+    (temporary folders, log handlers, child processes), without Python's teardown: freeing the
+    compiler's sympy expressions object by object and clearing every module cost a compiling run
+    0.18-0.21 s of CPU after its work was done (0.02-0.03 s from the cache). Nothing is lost:
+    dyadc closes every file it writes; the process ends normally instead when a thread besides
+    the main one is still running (its work would be cut short) or the output cannot be flushed
+    (a closed pipe: Python's own exit reports it)."""
+    import atexit
+    import threading
+    run_exit_handlers = getattr(atexit, "_run_exitfuncs", None)
+    if run_exit_handlers is None or threading.active_count() != 1:
+        return
+    try:
+        sys.stdout.flush()
+        sys.stderr.flush()
+    except (OSError, ValueError):
+        return
+    run_exit_handlers()
+    try:
+        sys.stdout.flush()
+        sys.stderr.flush()
+    except (OSError, ValueError):
+        pass
+    os._exit(status)
+
+
+def run_command(argv: list[str] | None = None) -> int:
     blas_on_one_thread()
     arguments = sys.argv[1:] if argv is None else list(argv)
     command = arguments[0] if arguments and arguments[0] in COMMANDS else None

@@ -83,3 +83,43 @@ def test_an_unknown_command_and_help_still_list_every_command():
     helped = subprocess.run([sys.executable, "-m", "compiler", "--help"], cwd=ROOT, capture_output=True,
                             text=True, timeout=120)
     assert helped.returncode == 0 and all(name in helped.stdout for name in cli.COMMANDS)
+
+
+EXIT = """
+import atexit, sys, threading, time
+from compiler import cli
+
+class Dropped:                 # freed by Python's teardown only
+    def __del__(self):
+        print("torn down")
+
+kept = Dropped()
+atexit.register(lambda: print("exit handler ran"))
+print("output", end=" ")
+if sys.argv[1] == "thread":
+    threading.Thread(target=lambda: (time.sleep(0.3), print("thread finished"))).start()
+cli.exit_without_teardown(3)
+print("returned")
+"""
+
+
+def run_exit(mode: str) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-c", EXIT, mode], cwd=ROOT, capture_output=True, text=True,
+                          timeout=120)
+
+
+def test_the_program_ends_after_its_output_and_exit_handlers_without_teardown():
+    done = run_exit("plain")
+    assert done.returncode == 3
+    assert done.stdout == "output exit handler ran\n"        # written, handlers run, no teardown
+
+
+def test_a_running_thread_gets_the_normal_exit():
+    done = run_exit("thread")
+    assert done.returncode == 0
+    assert done.stdout.split() == ["output", "returned", "thread", "finished", "exit", "handler", "ran",
+                                   "torn", "down"]
+
+
+def test_the_command_line_called_from_python_returns():
+    assert cli.main(["cache", "info"]) == 0          # a caller's process goes on
