@@ -28,10 +28,14 @@ def alias_folds(system: IndexedSystem, rows: Sequence[int], order: Sequence[int]
     of preference (an earlier priority class, or the same class and |u_r| > |w_r| or u first).
     Each column and row is in one fold at most."""
     position = {v: j for j, v in enumerate(order)}
-    entries_of = {v: [e for e in rows if v in system.incidence[e]] for v in order}
+    entries_of = {v: [] for v in order}
+    for e in rows:
+        for v in system.incidence[e]:
+            if v in entries_of:
+                entries_of[v].append(e)
     folds, used = [], set()
     for i, r in enumerate(rows):
-        entries = [v for v in order if v in system.incidence[r]]
+        entries = sorted((v for v in system.incidence[r] if v in position), key=position.__getitem__)
         if len(entries) != 2:
             continue
         for u, w in (entries, entries[::-1]):

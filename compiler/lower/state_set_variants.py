@@ -83,7 +83,8 @@ def folded_levels(analysis: Analysis, report: StructureReport) -> list[tuple[lis
     for k, (rows, all_candidates, chosen) in enumerate(report.levels):
         if candidates is None:
             candidates = list(all_candidates)
-        candidates = [v for v in all_candidates if v in set(candidates) | set(chosen)]
+        allowed = set(candidates) | set(chosen)
+        candidates = [v for v in all_candidates if v in allowed]
         folds = fold_table(system, layout[k], rows, candidates) if k < len(layout) else []
         partner = {u: w for _, u, w in folds}
         fold_rows = {i for i, _, _ in folds}
