@@ -2,6 +2,8 @@
 
     .venv/bin/python benchmarks/bench_scale.py compile 8 16 32 64 128 256   -> JSON lines, per stage
     .venv/bin/python benchmarks/bench_scale.py linsol 8 16 32 64 128         -> JSON lines, per solver
+    .venv/bin/python benchmarks/bench_scale.py linsol --form=torn|sparse|chosen --solvers=qr,auto N...
+    .venv/bin/python benchmarks/bench_scale.py forms TORN SPARSE CHOSEN      -> markdown table (stdout)
     .venv/bin/python benchmarks/bench_scale.py cartesian N STOP              -> one JSON line
     .venv/bin/python benchmarks/bench_scale.py report FILE...                -> docs/scaling.md
     .venv/bin/python benchmarks/bench_scale.py compile-section B1,B2 A1,A2 NOTES [TITLE_B TITLE_A]
@@ -95,13 +97,21 @@ def compile_rows(sizes: list[int]):
             yield row
 
 
-def linsol_rows(sizes: list[int], repeats: int, solvers: list[str] = SOLVERS):
+def linsol_rows(sizes: list[int], repeats: int, solvers: list[str] = SOLVERS, form: str = "chosen"):
+    """`form`: "torn" (every block torn, today's form), "sparse" (compiler/structure/causalize.py's
+    sparse form wherever the torn form is dense, at every N) or "chosen" (the automatic choice);
+    solver "auto": no option (compiler/runtime/linear_solver.py chooses)."""
     import casadi as ca
     import numpy as np
     from suite.chain_model import write_chain
     from compiler import runtime
     from compiler.pipeline import compile_spec
+    from compiler.structure import causalize
 
+    if form == "torn":
+        causalize.DENSE_FROM = 2.0
+    elif form == "sparse":
+        causalize.SPARSE_FORM_FROM = 0
     with tempfile.TemporaryDirectory(prefix="dyadc-scale-") as tmp:
         for n in sizes:
             model = compile_spec(write_chain(n, Path(tmp))).model
@@ -109,10 +119,11 @@ def linsol_rows(sizes: list[int], repeats: int, solvers: list[str] = SOLVERS):
             x, z, p, t = ca.SX.sym("x", nx), ca.SX.sym("z", nz), ca.SX.sym("p", npar), ca.SX.sym("t")
             ode, alg = model.dae(x, z, p, t)
             nnz = ca.jacobian(ca.vertcat(ode, alg), ca.vertcat(x, z)).sparsity().nnz()
-            row = {"n": n, "unknowns": nx + nz, "jacobian_nnz": nnz, "density": nnz / (nx + nz) ** 2}
+            row = {"n": n, "form": form, "unknowns": nx + nz, "jacobian_nnz": nnz, "density": nnz / (nx + nz) ** 2}
             reference = None
             for solver in solvers:
-                options = {"newton_scheme": solver} if solver == "gmres" else {"linear_solver": solver}
+                options = {"newton_scheme": solver} if solver == "gmres" else \
+                    {} if solver == "auto" else {"linear_solver": solver}
                 times = []
                 try:
                     for _ in range(repeats):
@@ -124,7 +135,8 @@ def linsol_rows(sizes: list[int], repeats: int, solvers: list[str] = SOLVERS):
                     row[solver] = {"failed": str(err).splitlines()[-1][:120]}
                     continue
                 last = np.asarray(result[model.state_names[-1]])
-                reference = last if reference is None else reference
+                if reference is None:
+                    reference, row["last_joint"] = last, [float(v) for v in last]
                 row[solver] = {"seconds": statistics.median(times), "steps": int(result.stats.get("steps", 0)),
                                "deviation": float(np.max(np.abs(last - reference)))}
             yield row
@@ -213,6 +225,41 @@ def linsol_table(rows: list[dict]) -> list[str]:
     return lines
 
 
+def forms_table(torn: str, sparse: str, chosen: str) -> list[str]:
+    """Markdown: per N the torn and the sparse form with each solver measured, the automatic
+    choice, growth exponents (fit over N >= 8), and how far the forms' last joint angles differ."""
+    import numpy as np
+    forms = {"torn": {r["n"]: r for r in _read(torn)}, "sparse": {r["n"]: r for r in _read(sparse)},
+             "chosen": {r["n"]: r for r in _read(chosen)}}
+    columns = [(form, s) for form in ("torn", "sparse")
+               for s in SOLVERS + ["auto"] if any(s in r for r in forms[form].values())]
+    columns.append(("chosen", "auto"))
+    header = ["N", "torn: unknowns (density)", "sparse: unknowns (density)"] + \
+        [f"{form} {s}" for form, s in columns] + ["chosen form", "torn vs sparse"]
+    lines = ["| " + " | ".join(header) + " |", "|---" * len(header) + "|"]
+    for n in sorted(forms["chosen"]):
+        cells = [str(n)]
+        for form in ("torn", "sparse"):
+            r = forms[form].get(n)
+            cells.append(f"{r['unknowns']} ({r['density']:.3f})" if r else "-")
+        for form, s in columns:
+            v = forms[form].get(n, {}).get(s, {})
+            cells.append(f"{v['seconds']:.3f}" if "seconds" in v else "failed" if "failed" in v else "-")
+        c, t, sp = forms["chosen"][n], forms["torn"].get(n), forms["sparse"].get(n)
+        cells.append("sparse" if t and c["unknowns"] != t["unknowns"] else "torn")
+        gap = np.max(np.abs(np.subtract(t["last_joint"], sp["last_joint"]))) \
+            if t and sp and "last_joint" in t and "last_joint" in sp else None
+        cells.append(f"{gap:.1e}" if gap is not None else "-")
+        lines.append("| " + " | ".join(cells) + " |")
+    fits = []
+    for form, s in columns:
+        rows = [forms[form][n] for n in sorted(forms[form])]
+        f = _fit(rows, lambda r, s=s: r.get(s, {}).get("seconds"))
+        if f is not None:
+            fits.append(f"{form} {s} {f:.2f}")
+    return lines + ["", "Growth exponents (fit over N >= 8): " + ", ".join(fits), ""]
+
+
 def main(argv: list[str]) -> None:
     os.environ.setdefault("OMP_NUM_THREADS", "1")
     mode, args = argv[0], argv[1:]
@@ -220,16 +267,19 @@ def main(argv: list[str]) -> None:
         for row in compile_rows([int(a) for a in args]):
             print(json.dumps(row), flush=True)
     elif mode == "linsol":
-        repeats, solvers = 3, SOLVERS
+        repeats, solvers, form = 3, SOLVERS, "chosen"
         while args and args[0].startswith("--"):
             key, value = args[0][2:].split("=")
             repeats = int(value) if key == "repeats" else repeats
             solvers = value.split(",") if key == "solvers" else solvers
+            form = value if key == "form" else form
             args = args[1:]
-        for row in linsol_rows([int(a) for a in args], repeats, solvers):
+        for row in linsol_rows([int(a) for a in args], repeats, solvers, form):
             print(json.dumps(row), flush=True)
     elif mode == "cartesian":
         print(json.dumps(cartesian_row(int(args[0]), float(args[1]))), flush=True)
+    elif mode == "forms":
+        print("\n".join(forms_table(*args)))
     elif mode == "report":
         write_report(*args)
     elif mode == "compile-section":

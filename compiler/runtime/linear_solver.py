@@ -67,6 +67,7 @@ def sparse_newton(evaluate, w: np.ndarray, tol: float, max_iterations: int = 30)
     gives (r as numpy, J as a sparse DM). Returns (w, r, J, iterations, converged), converged
     when every |r_i| / max|J_i.| <= tol * (1 + |w|_inf) (initialization's own test)."""
     r, jac = evaluate(w)
+    solver = _SparseSolver(jac)
     for iteration in range(max_iterations + 1):
         if not np.all(np.isfinite(r)):
             return w, r, jac, iteration, False
@@ -74,10 +75,20 @@ def sparse_newton(evaluate, w: np.ndarray, tol: float, max_iterations: int = 30)
             return w, r, jac, iteration, True
         if iteration == max_iterations:
             break
-        step = np.asarray(ca.solve(jac, ca.DM(r), "qr"), dtype=float).reshape(-1)
-        w = w - step
+        w = w - solver.solve(jac, r)
         r, jac = evaluate(w)
     return w, r, jac, max_iterations, False
+
+
+class _SparseSolver:
+    """CasADi's sparse QR for one sparsity pattern: the symbolic factorization (column order)
+    once, a numeric one per matrix (ca.solve would redo both: 12x slower at 2000 unknowns)."""
+
+    def __init__(self, jac: ca.DM):
+        self._linsol = ca.Linsol("sparse_newton", "qr", jac.sparsity())
+
+    def solve(self, jac: ca.DM, r: np.ndarray) -> np.ndarray:
+        return np.asarray(self._linsol.solve(jac, ca.DM(r)), dtype=float).reshape(-1)
 
 
 def _row_maxima(jac: ca.DM) -> np.ndarray:
@@ -130,10 +141,11 @@ def sparse_polish(model, xs: np.ndarray, zs: np.ndarray, p: np.ndarray, grid: np
     if not is_large_sparse(nz, jac):
         return None
     z = np.array(zs, dtype=float)
+    solver = _SparseSolver(jac)
     for j in range(n):
         r, jac = evaluate(j, z[:, j]) if j else (r, jac)
         for _ in range(iterations):
-            candidate = z[:, j] - np.asarray(ca.solve(jac, ca.DM(r), "qr"), dtype=float).reshape(-1)
+            candidate = z[:, j] - solver.solve(jac, r)
             r_new, jac_new = evaluate(j, candidate)
             if not np.all(np.isfinite(r_new)) or np.max(np.abs(r_new)) > np.max(np.abs(r)):
                 break
