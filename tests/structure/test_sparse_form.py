@@ -61,6 +61,13 @@ def test_large_chain_gets_the_sparse_form_and_the_same_trajectory(tmp_path, monk
     assert np.max(np.abs(a - b)) < 1e-5 * (1.0 + np.max(np.abs(b)))
 
 
+def test_the_automatic_choice_takes_the_sparse_form_above_the_threshold(tmp_path):
+    n = causalize.SPARSE_FORM_FROM // 3 + 1               # torn: 3n unknowns, just above
+    model = _compile(tmp_path, n)
+    assert model.sizes[1] > 3 * n
+    assert linear_solver.jacobian_density(model) < linear_solver.SPARSE_BELOW
+
+
 def test_sparse_initialization_solves_to_the_initialization_tolerance(tmp_path, monkeypatch):
     model = _compile(tmp_path, 16, monkeypatch, form="sparse")
     nx = model.sizes[0]
