@@ -9,7 +9,7 @@ Public API (docs/runtime.md):
   VariantSwitcher            the one that switches among the state sets a model carries
   SimulationFailed, InitializationFailed, SimulationInterrupted, ModelInputError
 """
-from .driver import StateSetSwitcher
+from .run_state import StateSetSwitcher
 from .errors import (InitializationFailed, ModelInputError, SimulationFailed, SimulationInterrupted,
                      did_you_mean)
 from .initialization import consistent_initialization

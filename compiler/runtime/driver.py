@@ -11,7 +11,6 @@ else cuts the run: not the output grid, not a progress bar.
 from __future__ import annotations
 
 import time as _time
-from typing import Mapping, Protocol
 
 import numpy as np
 
@@ -19,110 +18,20 @@ from . import interrupts
 from .checks import bound_violation, check_divergence, state_scales
 from .crossings import before_failure, first_crossing, locate, next_horizon, predicted_stay, watched_values
 from .errors import SimulationFailed, SimulationInterrupted
-from .idas import integrator_options
 from .initialization import consistent_initialization
-from .integrator import COUNTERS, IdasIntegrator
 from .model import CompiledModel
 from .options import SimulationOptions
 from .outputs import signals_at
 from .progress import Progress
 from .result import Result
-from .segments import clock_on_switches, first_step, segment_ends, segment_times, with_clock
+from .run_state import SWITCHED_TOLERANCE, RunState, StateSetSwitcher
+from .segments import first_step, segment_ends, segment_times, with_clock
 from .static import solve_static
 from .switching import all_outputs, explained, switch_state_set
-from .watches import build_watch
 
 CHECKS_PER_SEGMENT = 200
 MAX_EVENTS_AT_ONE_TIME = 50
 MAX_RETRIES = 200                # shortened segments after IDAS failures, per run
-INITIAL_CHUNKS = 100             # a state-set model's first IDAS call reaches 1/100 of the span
-MOST_CHUNKS = 1000               # and no call reaches less than 1/1000 of it (unless IDAS failed)
-# IDAS restarts cold at every state-set switch (CasADi keeps no step history between calls), and
-# each restart's low-order start-up costs accuracy: 31 restarts of the 2.3 rad pendulum's angle ODE
-# at rtol 1e-8 end 10x less accurate than one run of it. From the first switch on, a run is
-# therefore integrated at tolerances this much tighter (docs/numerics.md; A01 pendulum at rtol
-# 1e-10, 20 s: 6.0 significant digits in the worst variable -> 7.3 for 1.6x the steps; 10 gave 7.0).
-SWITCHED_TOLERANCE = 20.0
-
-
-class StateSetSwitcher(Protocol):
-    """Provides the model of another state set where the current one degrades (the compiler's
-    dynamic state selection). `public_names` are the signals every variant reports."""
-    public_names: list[str]
-
-    def switch(self, model: CompiledModel, values: Mapping[str, float], t: float) -> CompiledModel: ...
-
-
-class _Run:
-    """The state of one run: where it is, which model (state set) it integrates, what it collected."""
-
-    def __init__(self, model: CompiledModel, options: SimulationOptions, switcher):
-        self.options = options
-        self.switcher = switcher
-        self.public = options.chosen_signals(list(switcher.public_names) if switcher is not None
-                                             else list(model.output_names))
-        self.grid = options.grid()
-        self.values = np.full((len(self.public), len(self.grid)), np.nan)
-        self.counters = {v: 0 for v in COUNTERS.values()}
-        self.counters["segments"] = 0
-        self.events: list[dict] = []
-        self.switches: list[dict] = []
-        self.integrators: dict[tuple, tuple] = {}
-        self.parameter_vectors: dict[int, np.ndarray] = {}    # per state set, read-only
-        self.pending: dict[int, tuple] = {}
-        self.forced_ends: set[float] = set()
-        self.retry: tuple | None = None
-        self.t = options.start
-        # how far one IDAS call reaches in a model with state sets (see _next_horizon)
-        self.horizon = (options.stop - options.start) / INITIAL_CHUNKS
-        # an indicator that hovers near zero without crossing must not shrink the calls for ever
-        self.shortest_reach = (options.stop - options.start) / MOST_CHUNKS
-        self.last_switch = options.start
-        self.intervals: list[float] = []         # between the state-set switches so far
-        self.durations: dict[tuple, float] = {}  # how long the run last stayed in each state set
-
-    def integrator(self, model: CompiledModel):
-        switched = bool(self.switches)           # from the first switch on: tighter tolerances
-        key = (id(model), switched)
-        if key not in self.integrators:
-            atol = self.options.atol
-            base = float(atol.get("*", 1e-6)) if isinstance(atol, Mapping) else float(atol)
-            watch = model.derived(("watch", base), lambda: build_watch(model, base))   # once per model
-            factor = SWITCHED_TOLERANCE if switched else 1.0
-            tightened = ({name: value / factor for name, value in atol.items()}
-                         if isinstance(atol, Mapping) else atol / factor)
-            opts = integrator_options(model, self.options.rtol / factor, tightened,
-                                      self.options.max_steps, self.options.idas_options())
-            public_index = [model.output_index(n) for n in self.public]
-            self.integrators[key] = (model, IdasIntegrator(model, opts), watch, public_index)
-        return self.integrators[key][1:]
-
-    def store(self, model: CompiledModel, xs, zs, p, times, first: int, public_index) -> None:
-        """Keep the point at the grid times first, first + 1, ... (which are `times`); the outputs
-        are computed at the end, in one vectorized call per state set and parameter vector
-        (`finish`; the parameters are kept once per chunk, not once per point: the excavator's 211
-        at 1201 points cost 5 ms to repeat and compare)."""
-        n = len(times)
-        if n == 0:
-            return
-        xs, zs, columns = np.asarray(xs)[:, :n], np.asarray(zs)[:, :n], np.arange(first, first + n)
-        chunks = self.pending.setdefault(id(model), (model, public_index, {}))[2]
-        for which, p_run in clock_on_switches(model, np.asarray(p, dtype=float).reshape(-1), times[:n], self.ends):
-            chunks.setdefault(p_run.tobytes(), (p_run, []))[1].append((xs[:, which], zs[:, which], columns[which]))
-
-    def finish(self) -> None:
-        for model, public_index, by_parameters in self.pending.values():
-            for p, chunks in by_parameters.values():
-                xs, zs, columns = (np.concatenate([c[i] for c in chunks], axis=-1) for i in range(3))
-                self.values[:, columns] = signals_at(model, xs, zs, p, self.grid[columns], public_index)
-        self.pending = {}
-
-    def add(self, counters: Mapping) -> None:
-        for key, value in counters.items():
-            self.counters[key] = self.counters.get(key, 0) + value
-        self.counters["segments"] += 1
-
-
 def simulate(model: CompiledModel, stop: float | None = None, *, options: SimulationOptions | None = None,
              switcher: StateSetSwitcher | None = None, **settings) -> Result:
     """Initialize consistently at the start, integrate to the stop, evaluate the outputs.
@@ -134,7 +43,7 @@ def simulate(model: CompiledModel, stop: float | None = None, *, options: Simula
     elif stop is not None or settings:
         raise TypeError("pass either options or keyword settings, not both")
     options = options.validated()
-    run = _Run(model, options, switcher)
+    run = RunState(model, options, switcher)
     p = model.parameter_vector(options.params)
     run.ends = segment_ends(model, p, options)
     p = with_clock(model, p, options.start, run.ends[0])
@@ -178,7 +87,7 @@ def _run_watched(run, model, p, point, progress, stats, began) -> Result:
     return _result(run, model, len(run.grid), stats)
 
 
-def _result(run: _Run, model: CompiledModel, n: int, stats: dict) -> Result:
+def _result(run: RunState, model: CompiledModel, n: int, stats: dict) -> Result:
     """The first n output times of the run as a Result."""
     units = model.metadata.get("units") or {}
     return Result(run.grid[:n], run.public, run.values[:, :n], stats, model.name,
@@ -186,7 +95,7 @@ def _result(run: _Run, model: CompiledModel, n: int, stats: dict) -> Result:
                   events=run.events, switches=run.switches)
 
 
-def _partial_result(run: _Run, model: CompiledModel) -> Result | None:
+def _partial_result(run: RunState, model: CompiledModel) -> Result | None:
     """The output times the run had reached when it failed, as a Result (None if not even one)."""
     try:
         run.finish()
@@ -197,7 +106,7 @@ def _partial_result(run: _Run, model: CompiledModel) -> Result | None:
     return _result(run, model, n, dict(run.counters)) if n else None
 
 
-def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: Progress) -> float:
+def _integrate(run: RunState, model: CompiledModel, p: np.ndarray, point, progress: Progress) -> float:
     """The segment loop: IDAS runs from (t, x, z) to the next segment end (a time event, the stop),
     or, in a model with state sets, to a reach predicted from its indicators; it restarts there, at
     a located crossing or after a switch. (Integrating again from the last restart instead of
@@ -331,7 +240,7 @@ def _integrate(run: _Run, model: CompiledModel, p: np.ndarray, point, progress: 
     return t
 
 
-def _refill(run: _Run, model, integrator, p, public_index, k: int, t_a: float, t_b: float,
+def _refill(run: RunState, model, integrator, p, public_index, k: int, t_a: float, t_b: float,
             x_a, z_a) -> int:
     """Outputs at the grid times in (t_a, t_b) recomputed from the point at t_a; returns the next
     grid index to fill."""
@@ -347,7 +256,7 @@ def _refill(run: _Run, model, integrator, p, public_index, k: int, t_a: float, t
     return max(k, last)
 
 
-def _outputs_at(run: _Run, model: CompiledModel, x, z, p, t: float) -> np.ndarray:
+def _outputs_at(run: RunState, model: CompiledModel, x, z, p, t: float) -> np.ndarray:
     index = [model.output_index(n) for n in run.public]
     return signals_at(model, np.asarray(x).reshape(-1, 1), np.asarray(z).reshape(-1, 1), p, np.array([t]),
                       index)[:, 0]

@@ -87,7 +87,7 @@ def test_a01_results_do_not_depend_on_the_output_grid(a01):
 def test_a01_digits_grow_with_the_tolerance(a01):
     # 20 s, 8.5 periods, 34 switches; the issue asks for 7 significant digits in every variable at
     # rtol 1e-10 and 8 at 1e-12. Measured (x, y, vx, vy, lambda), with IDAS at rtol / 20 from the
-    # first switch on (driver.SWITCHED_TOLERANCE): rtol 1e-8: 5.2-5.6 digits; 1e-10: 7.3-7.7;
+    # first switch on (run_state.SWITCHED_TOLERANCE): rtol 1e-8: 5.2-5.6 digits; 1e-10: 7.3-7.7;
     # 1e-12: 9.9-10.3. Without the tightening: 4.5-4.9 / 5.8-6.4 / 7.6-8.3. One IDAS run of the
     # angle ODE reaches 5.7 / 7.1 / 9.3 digits in x at the same tolerances.
     found = {rtol: digits(run_a01(a01, 20.0, rtol, 201)) for rtol in (1e-8, 1e-10, 1e-12)}
@@ -112,7 +112,7 @@ def test_release_angles_cost_a_bounded_factor_of_the_angle_ode_error(a01, rtol, 
     # The error of any single run is chaotic in the release angle (the angle ODE's own error varies
     # 3x over these angles); the median over release angles is what switching costs. The issue asks
     # for 2x. Measured medians: 0.54 at rtol 1e-8, 0.15 at 1e-10 (ratios 0.03 ... 0.73); before
-    # the tightening after the first switch (driver.SWITCHED_TOLERANCE) 4.1 and 2.1.
+    # the tightening after the first switch (run_state.SWITCHED_TOLERANCE) 4.1 and 2.1.
     ratios = []
     for theta0 in (1.8, 1.9, 2.0, 2.1, 2.2, 2.3):
         res = run_a01(a01, 20.0, rtol, 2001, theta0=theta0, L=0.8)

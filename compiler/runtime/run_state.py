@@ -1,0 +1,103 @@
+"""The state of one run of the driver (driver.py): where it is, which model (state set) it
+integrates, the IDAS objects and tolerances it uses, and the samples it has collected; and how far
+the IDAS calls of a model with state sets reach."""
+from __future__ import annotations
+
+from typing import Mapping, Protocol
+
+import numpy as np
+
+from .idas import integrator_options
+from .integrator import COUNTERS, IdasIntegrator
+from .model import CompiledModel
+from .options import SimulationOptions
+from .outputs import signals_at
+from .segments import clock_on_switches
+from .watches import build_watch
+
+INITIAL_CHUNKS = 100             # a state-set model's first IDAS call reaches 1/100 of the span
+MOST_CHUNKS = 1000               # and no call reaches less than 1/1000 of it (unless IDAS failed)
+# IDAS restarts cold at every state-set switch (CasADi keeps no step history between calls), and
+# each restart's low-order start-up costs accuracy: 31 restarts of the 2.3 rad pendulum's angle ODE
+# at rtol 1e-8 end 10x less accurate than one run of it. From the first switch on, a run is
+# therefore integrated at tolerances this much tighter (docs/numerics.md; A01 pendulum at rtol
+# 1e-10, 20 s: 6.0 significant digits in the worst variable -> 7.3 for 1.6x the steps; 10 gave 7.0).
+SWITCHED_TOLERANCE = 20.0
+
+
+class StateSetSwitcher(Protocol):
+    """Provides the model of another state set where the current one degrades (the compiler's
+    dynamic state selection). `public_names` are the signals every variant reports."""
+    public_names: list[str]
+
+    def switch(self, model: CompiledModel, values: Mapping[str, float], t: float) -> CompiledModel: ...
+
+
+class RunState:
+    """The state of one run: where it is, which model (state set) it integrates, what it collected."""
+
+    def __init__(self, model: CompiledModel, options: SimulationOptions, switcher):
+        self.options = options
+        self.switcher = switcher
+        self.public = options.chosen_signals(list(switcher.public_names) if switcher is not None
+                                             else list(model.output_names))
+        self.grid = options.grid()
+        self.values = np.full((len(self.public), len(self.grid)), np.nan)
+        self.counters = {v: 0 for v in COUNTERS.values()}
+        self.counters["segments"] = 0
+        self.events: list[dict] = []
+        self.switches: list[dict] = []
+        self.integrators: dict[tuple, tuple] = {}
+        self.parameter_vectors: dict[int, np.ndarray] = {}    # per state set, read-only
+        self.pending: dict[int, tuple] = {}
+        self.forced_ends: set[float] = set()
+        self.retry: tuple | None = None
+        self.t = options.start
+        # how far one IDAS call reaches in a model with state sets (crossings.next_horizon)
+        self.horizon = (options.stop - options.start) / INITIAL_CHUNKS
+        # an indicator that hovers near zero without crossing must not shrink the calls for ever
+        self.shortest_reach = (options.stop - options.start) / MOST_CHUNKS
+        self.last_switch = options.start
+        self.intervals: list[float] = []         # between the state-set switches so far
+        self.durations: dict[tuple, float] = {}  # how long the run last stayed in each state set
+
+    def integrator(self, model: CompiledModel):
+        switched = bool(self.switches)           # from the first switch on: tighter tolerances
+        key = (id(model), switched)
+        if key not in self.integrators:
+            atol = self.options.atol
+            base = float(atol.get("*", 1e-6)) if isinstance(atol, Mapping) else float(atol)
+            watch = model.derived(("watch", base), lambda: build_watch(model, base))   # once per model
+            factor = SWITCHED_TOLERANCE if switched else 1.0
+            tightened = ({name: value / factor for name, value in atol.items()}
+                         if isinstance(atol, Mapping) else atol / factor)
+            opts = integrator_options(model, self.options.rtol / factor, tightened,
+                                      self.options.max_steps, self.options.idas_options())
+            public_index = [model.output_index(n) for n in self.public]
+            self.integrators[key] = (model, IdasIntegrator(model, opts), watch, public_index)
+        return self.integrators[key][1:]
+
+    def store(self, model: CompiledModel, xs, zs, p, times, first: int, public_index) -> None:
+        """Keep the point at the grid times first, first + 1, ... (which are `times`); the outputs
+        are computed at the end, in one vectorized call per state set and parameter vector
+        (`finish`; the parameters are kept once per chunk, not once per point: the excavator's 211
+        at 1201 points cost 5 ms to repeat and compare)."""
+        n = len(times)
+        if n == 0:
+            return
+        xs, zs, columns = np.asarray(xs)[:, :n], np.asarray(zs)[:, :n], np.arange(first, first + n)
+        chunks = self.pending.setdefault(id(model), (model, public_index, {}))[2]
+        for which, p_run in clock_on_switches(model, np.asarray(p, dtype=float).reshape(-1), times[:n], self.ends):
+            chunks.setdefault(p_run.tobytes(), (p_run, []))[1].append((xs[:, which], zs[:, which], columns[which]))
+
+    def finish(self) -> None:
+        for model, public_index, by_parameters in self.pending.values():
+            for p, chunks in by_parameters.values():
+                xs, zs, columns = (np.concatenate([c[i] for c in chunks], axis=-1) for i in range(3))
+                self.values[:, columns] = signals_at(model, xs, zs, p, self.grid[columns], public_index)
+        self.pending = {}
+
+    def add(self, counters: Mapping) -> None:
+        for key, value in counters.items():
+            self.counters[key] = self.counters.get(key, 0) + value
+        self.counters["segments"] += 1
