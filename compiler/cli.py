@@ -117,6 +117,9 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
                        help="compile from source and store nothing (docs/cache.md; or DYADC_CACHE_DIR=off)")
         p.add_argument("--keep-partial", action="store_true",
                        help="when the run fails, write what it reached to FILE.partial.EXT (with --output)")
+        p.add_argument("--strict-bounds", action="store_true",
+                       help="stop the run where a variable leaves its declared min/max (default: a "
+                            "warning, and the run goes on)")
         p.add_argument("--max-output-values", type=int, metavar="N",
                        help="refuse runs storing more than N output values (times x signals; default "
                             "$DYADC_MAX_OUTPUT_VALUES or 10000000)")
@@ -309,7 +312,8 @@ def _simulate(args, background: list) -> int:
     try:
         result = simulate_compiled(compilation, args.stop, start=args.start, rtol=args.rtol,
                                    atol=args.atol, points=args.points,
-                                   saveat=None if saveat is None else saveat.grid(), params=params)
+                                   saveat=None if saveat is None else saveat.grid(), params=params,
+                                   bounds="error" if args.strict_bounds else "warn")
     except SimulationError as failure:
         if args.keep_partial and args.output and failure.partial is not None:
             partial = _partial_path(args.output)

@@ -36,6 +36,16 @@ def _slack(bound: float) -> float:
     return 1e-12 + 1e-9 * abs(bound)
 
 
+class BoundWarning(UserWarning):
+    """A run left a declared min/max of a variable and went on (bounds="warn")."""
+
+
+def bound_warning(model: CompiledModel, name: str, key: str, bound: float, value: float, t: float) -> str:
+    return (f"{name} = {value:.6g} left its declared {key} = {bound:g} at t = {t:.10g} in {model.name}; "
+            f"the run goes on (a bound is checked, not enforced: --strict-bounds, or bounds=\"error\", "
+            f"stops the run there)")
+
+
 def bound_violation(model: CompiledModel, name: str, key: str, bound: float, value: float,
                     t: float) -> SimulationFailed:
     reason = f"{name} = {value:.6g} is outside its declared {key} = {bound:g}"

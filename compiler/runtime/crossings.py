@@ -85,9 +85,11 @@ def predicted_stay(intervals: list[float], last_in_set: float | None) -> float:
     return min(intervals[-2:])
 
 
-def first_crossing(model: CompiledModel, watch: Watch, t0, p, times, checks, segment, values):
+def first_crossing(model: CompiledModel, watch: Watch, t0, p, times, checks, segment, values,
+                   ignored: set[int] = frozenset()):
     """(check time after the crossing, check time before it, row) of the first watched function
-    that changes sign between two check times; None when none does."""
+    that changes sign between two check times; None when none does. Rows in `ignored` are not
+    looked at (bounds already warned of)."""
     at = np.searchsorted(times, checks)
     xs, zs = segment.xs[:, at], segment.zs[:, at]
     before, after = values[:, :-1], values[:, 1:]
@@ -95,6 +97,8 @@ def first_crossing(model: CompiledModel, watch: Watch, t0, p, times, checks, seg
     events = np.array([k == "event" for k in kinds])[:, None]
     crossed = np.where(events, (before > 0) != (after > 0), (before > 0) & ~(after > 0))
     crossed &= np.isfinite(before)
+    if ignored:
+        crossed[sorted(ignored)] = False
     # a single-row level's indicator is its quality test already (|pivot| against the largest
     # alternative); a multi-row level's only proposes a switch, taken where the chosen block's
     # smallest singular value is below SWITCH_RATIO times that of the block pivoting would choose

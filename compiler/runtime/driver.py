@@ -11,11 +11,12 @@ else cuts the run: not the output grid, not a progress bar.
 from __future__ import annotations
 
 import time as _time
+import warnings
 
 import numpy as np
 
 from . import interrupts
-from .checks import bound_violation, check_divergence, state_scales
+from .checks import BoundWarning, bound_violation, bound_warning, check_divergence, state_scales
 from .crossings import before_failure, first_crossing, locate, next_horizon, predicted_stay, watched_values
 from .errors import SimulationFailed, SimulationInterrupted
 from .initialization import consistent_initialization
@@ -82,6 +83,8 @@ def _run_watched(run, model, p, point, progress, stats, began) -> Result:
     stats["run_time"] = _time.perf_counter() - began
     stats.update(run.counters)
     stats["state_switches"] = run.switches
+    if run.bounds_left:                   # declared bounds the run left and went on (bounds="warn")
+        stats["bounds_left"] = run.bounds_left
     if run.switches:                      # what IDAS ran at from the first switch on
         stats["rtol_after_first_switch"] = run.options.rtol / SWITCHED_TOLERANCE
     return _result(run, model, len(run.grid), stats)
@@ -165,7 +168,9 @@ def _integrate(run: RunState, model: CompiledModel, p: np.ndarray, point, progre
         run.add(segment.counters)
         watched = None if watch is None else watched_values(watch, t, x, z, p, times, checks, segment)
         crossing = None if watch is None else first_crossing(model, watch, t, p, times, checks,
-                                                              segment, watched)
+                                                              segment, watched,
+                                                              {i for i, label in enumerate(watch.labels)
+                                                               if label in run.ignored})
         reached = len(times) if crossing is None else int(np.searchsorted(times, crossing[0]))
         check_divergence(model, np.asarray(times[:reached]), segment.xs[:, :reached], scale)
         n_out = m if crossing is None else int(np.searchsorted(outputs[:m], crossing[1], side="right"))
@@ -221,8 +226,17 @@ def _integrate(run: RunState, model: CompiledModel, p: np.ndarray, point, progre
                                    t_cross, reason)
         if kind == "bound":
             name, key, bound = what
-            raise bound_violation(model, name, key, bound, values[name], t_cross)
-        if kind == "event":
+            if run.options.bounds == "error":
+                raise bound_violation(model, name, key, bound, values[name], t_cross)
+            # once per bound: a value that stays outside, or comes back and leaves again, is not
+            # located again (each located crossing costs a restart)
+            message = bound_warning(model, name, key, bound, values[name], t_cross)
+            warnings.warn(message, BoundWarning, stacklevel=2)
+            run.bounds_left.append({"time": float(t_cross), "variable": name, "bound": key,
+                                    "limit": float(bound), "value": float(values[name])})
+            run.ignored.add(watch.labels[row])
+            x, z = x_cross, z_cross
+        elif kind == "event":
             run.events.append({"time": float(t_cross), "event": what})
             x, z = x_cross, z_cross
         else:

@@ -32,6 +32,9 @@ class SimulationOptions:
     integrator_options: Mapping | None = None   # passed to CasADi's IDAS interface as they are
     progress: bool | None = None                # None: a bar on a terminal for long runs
     signals: Sequence[str] | None = None        # the outputs to compute (None: every output)
+    # a declared min/max left during the run: "warn" (Dyad's and Modelica's reading: bounds are
+    # metadata, checked) goes on with a warning, "error" stops the run there
+    bounds: str = "warn"
 
     def validated(self) -> "SimulationOptions":
         start, stop = _finite("start", self.start), _finite("stop", self.stop)
@@ -47,6 +50,8 @@ class SimulationOptions:
             _positive("atol", self.atol)
         if self.max_step is not None:
             _positive("max_step", self.max_step)
+        if self.bounds not in ("warn", "error"):
+            raise ModelInputError(f"bounds must be 'warn' or 'error', got {self.bounds!r}")
         if int(self.max_steps) < 1:
             raise ModelInputError(f"max_steps must be at least 1, got {self.max_steps}")
         if self.saveat is None:

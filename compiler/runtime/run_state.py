@@ -47,6 +47,8 @@ class RunState:
         self.counters["segments"] = 0
         self.events: list[dict] = []
         self.switches: list[dict] = []
+        self.bounds_left: list[dict] = []        # declared bounds left (bounds="warn")
+        self.ignored: set[tuple] = set()         # watch labels no longer located (bounds warned of)
         self.integrators: dict[tuple, tuple] = {}
         self.parameter_vectors: dict[int, np.ndarray] = {}    # per state set, read-only
         self.pending: dict[int, tuple] = {}

@@ -88,11 +88,13 @@ def run_sample(model: CompiledModel, job: Job, sample: int, params: Mapping[str,
     began = _time.perf_counter()
     try:
         # progress=False: a progress bar splits the run into chunks, which would change the numbers
+        # bounds="error": a sample that leaves a declared bound is recorded as failed, with the time
+        # and the bound (warnings of thousands of samples would go unread)
         # a model that carries state-set variants switches among them (runtime.VariantSwitcher)
         result = simulate(model, job.stop, start=job.start,
                           rtol=job.rtol, atol=job.atol, points=job.points,
                           saveat=list(job.saveat) if job.saveat else None, params=dict(params),
-                          progress=False)
+                          progress=False, bounds="error")
     except SimulationFailed as err:
         if err.reason == "interrupted":
             # Ctrl-C landed inside the run (the runtime reports it as a failure): the sweep stops,

@@ -22,9 +22,21 @@ def model(tmp_path):
     return path
 
 
+def test_a_bound_left_is_a_warning_and_the_run_goes_on(model, tmp_path, capsys):
+    # Dyad's and Modelica's reading of min/max (issue 17 item 5): checked, not enforced
+    out = tmp_path / "out.csv"
+    assert main(["simulate", str(model), "--stop", "3", "--output", str(out)]) == 0
+    err = capsys.readouterr().err
+    warnings = [line for line in err.splitlines() if line.startswith("warning: ")]
+    assert len(warnings) == 1 and "x = -1e-06 left its declared min = 0 at t = 1.0000" in warnings[0]
+    assert "--strict-bounds" in warnings[0] and "Traceback" not in err
+    last_time, last_x = (float(v) for v in out.read_text().splitlines()[-1].split(","))
+    assert last_time == 3.0 and last_x == pytest.approx(-2.0, abs=1e-9)
+
+
 def test_a_bound_failure_names_time_value_bound_and_the_declaration(model, tmp_path, capsys):
     out = tmp_path / "out.csv"
-    assert main(["simulate", str(model), "--stop", "3", "--output", str(out)]) == 1
+    assert main(["simulate", str(model), "--stop", "3", "--strict-bounds", "--output", str(out)]) == 1
     err = capsys.readouterr().err
     assert "left the model's domain at t = 1.0000" in err and "outside its declared min = 0" in err
     assert f"{model}:2:3: note: `x` is declared here" in err
@@ -35,7 +47,7 @@ def test_a_bound_failure_names_time_value_bound_and_the_declaration(model, tmp_p
 def test_keep_partial_writes_what_the_run_reached_under_a_partial_name(model, tmp_path, capsys):
     out = tmp_path / "out.csv"
     assert main(["simulate", str(model), "--stop", "3", "--points", "301", "--output", str(out),
-                 "--keep-partial"]) == 1
+                 "--keep-partial", "--strict-bounds"]) == 1
     assert not out.exists()
     rows = (tmp_path / "out.partial.csv").read_text().splitlines()
     assert rows[0] == "time,x"

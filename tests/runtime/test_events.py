@@ -105,10 +105,24 @@ def test_a_bound_crossed_between_output_points_stops_the_run_where_it_is_crossed
     from tests.runtime.runtime_systems import draining
     model = lower(draining())
     with pytest.raises(runtime.SimulationFailed) as failure:
-        runtime.simulate(model, 3.0, points=2, rtol=1e-8, atol=1e-10)     # output at 0 and 3 only
+        runtime.simulate(model, 3.0, points=2, rtol=1e-8, atol=1e-10, bounds="error")   # outputs at 0, 3
     assert failure.value.variable == "x"
     assert failure.value.time_reached == pytest.approx(1.0, abs=1e-9)    # bound slack: atol
     assert "outside its declared min = 0" in str(failure.value)
+
+
+def test_a_bound_left_is_warned_of_once_where_it_is_crossed_and_the_run_goes_on(tmp_path):
+    from compiler import runtime
+    from compiler.lower.to_casadi import lower
+    from compiler.runtime.checks import BoundWarning
+    from tests.runtime.runtime_systems import draining
+    model = lower(draining())
+    with pytest.warns(BoundWarning) as caught:
+        result = runtime.simulate(model, 3.0, points=2, rtol=1e-8, atol=1e-10)
+    assert len(caught) == 1 and "left its declared min = 0" in str(caught[0].message)
+    (left,) = result.stats["bounds_left"]
+    assert left["variable"] == "x" and left["bound"] == "min" and left["time"] == pytest.approx(1.0, abs=1e-9)
+    assert result.time[-1] == 3.0 and result["x"][-1] == pytest.approx(-2.0, abs=1e-8)
 
 
 def test_a_condition_on_julias_rem_of_time_is_located_not_stepped_over(tmp_path):
