@@ -214,7 +214,7 @@ def test_a_failure_during_a_run_from_the_cache_is_located_as_without_it(tmp_path
           der(x) = 1.0
         end
         """)
-    run = ("simulate", "BoundLib.Rise", "-L", tmp_path / "lib", "--stop", "2")
+    run = ("simulate", "BoundLib.Rise", "-L", tmp_path / "lib", "--stop", "2", "--strict-bounds")
     first, from_cache, from_source = (dyadc(cache, *run), dyadc(cache, *run), dyadc(cache, *run, "--no-cache"))
     assert first.code == from_cache.code == from_source.code == 1
     assert not from_cache.compiled                     # located without compiling
