@@ -2,6 +2,7 @@
 so that its flags, explanations and tolerance rules are read in one place."""
 from __future__ import annotations
 
+import atexit
 import io
 import os
 import re
@@ -114,6 +115,7 @@ def _scratch_file():
     file = getattr(_scratch, "file", None)
     if file is None or file.closed:
         file = _scratch.file = tempfile.TemporaryFile(mode="w+b")
+        atexit.register(file.close)          # else a ResourceWarning at the interpreter's exit
     elif file.tell() or getattr(_scratch, "busy", False):
         return tempfile.TemporaryFile(mode="w+b")
     _scratch.busy = True

@@ -117,8 +117,9 @@ def assert_stays_in_domain_or_stops(excavator, stop, allow_failure=True):
     """The requirement: a run either stays where the model means something (both chamber volumes
     positive) or stops with an error; it must not carry on through an empty chamber."""
     try:
+        # bounds="error": an empty chamber must stop the run (a bound left is otherwise a warning)
         run = runtime.simulate(excavator.model, stop, points=int(stop * 100) + 1,
-                               params={**SHARP_CONTACT, **stiffer_soil(10)})
+                               params={**SHARP_CONTACT, **stiffer_soil(10)}, bounds="error")
     except runtime.SimulationFailed as failure:
         assert failure.time_reached is not None and failure.time_reached < stop
         if not allow_failure:
