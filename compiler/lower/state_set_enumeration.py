@@ -25,7 +25,7 @@ import sympy
 
 from compiler.errors import DyadError
 from compiler.lower.selection_layout import SelectionLevel, selection_levels
-from compiler.lower.state_set_folds import alias_folds, unfolded
+from compiler.lower.state_set_folds import alias_folds, plain_number, unfolded
 from compiler.lower.state_set_variants import Variant, _priority_function, build_variant, forcing, matching
 from compiler.model.flat import FlatSystem
 from compiler.runtime import pivoted_columns
@@ -155,7 +155,7 @@ def _triangular(system: IndexedSystem, rows, columns) -> bool:
         for v in sorted(left):
             row = next((e for e in free_rows if v in system.incidence[e]
                         and not any(u in system.incidence[e] for u in left if u != v)
-                        and _number(system, e, v)), None)
+                        and plain_number(system, e, v)), None)
             if row is not None:
                 left.discard(v)
                 free_rows.remove(row)
@@ -163,18 +163,6 @@ def _triangular(system: IndexedSystem, rows, columns) -> bool:
         else:
             return False
     return True
-
-
-def _number(system: IndexedSystem, e: int, v: int) -> float | None:
-    """d equation / d unknown where it is a plain finite number (no symbol at all), else None."""
-    derivative = partial(system.equations[e], system.symbols[v])
-    if derivative.free_symbols:
-        return None
-    try:
-        value = float(derivative)
-    except (TypeError, ValueError):
-        return None
-    return value if np.isfinite(value) else None
 
 
 def _structurally_regular(system: IndexedSystem, rows, columns) -> bool:

@@ -41,7 +41,7 @@ def alias_folds(system: IndexedSystem, rows: Sequence[int], order: Sequence[int]
         for u, w in (entries, entries[::-1]):
             if entries_of[w] != [r] or u in used or w in used:
                 continue
-            u_r, w_r = _number(system, r, u), _number(system, r, w)
+            u_r, w_r = plain_number(system, r, u), plain_number(system, r, w)
             if u_r is None or w_r is None or w_r == 0:
                 continue
             pu, pw = priority(u), priority(w)
@@ -53,7 +53,7 @@ def alias_folds(system: IndexedSystem, rows: Sequence[int], order: Sequence[int]
     return folds
 
 
-def _number(system: IndexedSystem, e: int, v: int) -> float | None:
+def plain_number(system: IndexedSystem, e: int, v: int) -> float | None:
     """d equation / d unknown where it is a plain finite number (no symbol at all), else None."""
     derivative = partial(system.equations[e], system.symbols[v])
     if derivative.free_symbols:
