@@ -137,6 +137,7 @@ def _integrate(run: RunState, model: CompiledModel, p: np.ndarray, point, progre
             # the call that failed, cut at its last check before the failure: the same check
             # times and first step, so that what follows does not depend on where IDAS stopped
             reach, checks, step0 = retry[1:]
+            xdot = None                       # the IDAS call computes it from (x, z)
         else:
             # a state set that degrades is integrated on, badly, until IDAS fails: one call
             # reaches only a little past where its indicators are predicted to cross (_next_horizon)
@@ -144,14 +145,15 @@ def _integrate(run: RunState, model: CompiledModel, p: np.ndarray, point, progre
             if end - reach <= 1e-9 * (end - t):
                 reach = end
             checks = [] if watch is None else list(np.linspace(t, reach, CHECKS_PER_SEGMENT + 1)[1:])
-            step0 = first_step(integrator, x, z, p, t, reach)
+            xdot = integrator.derivative(x, z, p, t)
+            step0 = first_step(integrator, x, xdot, t, reach)
         outputs, m = segment_times(grid, k, reach)
         times = sorted(set(outputs) | set(checks))
         try:
             # every run starts from a point that solves the algebraic equations already (the
             # initialization, a located crossing, the end of a segment): IDAS's own
             # initial-condition search would make the run depend on the first output time
-            segment = integrator.run(t, times, x, z, p, consistent=True, step0=step0)
+            segment = integrator.run(t, times, x, z, p, consistent=True, step0=step0, xdot=xdot)
         except SimulationFailed as failure:
             # a bound crossing before the failure shows in the first retry; a degrading state set
             # may need a few, each ending nearer the failure (switches are proposed there)
@@ -263,8 +265,9 @@ def _refill(run: RunState, model, integrator, p, public_index, k: int, t_a: floa
     last = int(np.searchsorted(grid, t_b, side="right"))
     if last > first:
         times = [float(v) for v in grid[first:last]]
+        xdot = integrator.derivative(x_a, z_a, p, t_a)
         segment = integrator.run(t_a, times, x_a, z_a, p, consistent=True,
-                                 step0=first_step(integrator, x_a, z_a, p, t_a, t_b))
+                                 step0=first_step(integrator, x_a, xdot, t_a, t_b), xdot=xdot)
         run.add(segment.counters)
         run.store(model, segment.xs, segment.zs, p, times, first, public_index)
     return max(k, last)

@@ -36,8 +36,11 @@ class Segment:
 
 
 class Integrator(Protocol):
+    def derivative(self, x: np.ndarray, z: np.ndarray, p: np.ndarray, t: float) -> np.ndarray: ...
+
     def run(self, t0: float, times: Sequence[float], x0: np.ndarray, z0: np.ndarray,
-            p: np.ndarray, consistent: bool = False, step0: float | None = None) -> Segment: ...
+            p: np.ndarray, consistent: bool = False, step0: float | None = None,
+            xdot: np.ndarray | None = None) -> Segment: ...
 
     def run_to(self, t0: float, t1: float, x0: np.ndarray, z0: np.ndarray, p: np.ndarray) -> Segment: ...
 
@@ -79,14 +82,19 @@ class IdasIntegrator:
         self.dae = model.derived("idas_dae", lambda: _dae_function(model, scaled_time=False))
         self._solvers = model.derived("idas_solvers", _Solvers)
 
+    def derivative(self, x: np.ndarray, z: np.ndarray, p: np.ndarray, t: float) -> np.ndarray:
+        """der(x) at a point that solves the algebraic equations (the DAE's ode part there)."""
+        return np.asarray(self.model.dae(x, z, p, t)[0], dtype=float).reshape(-1)
+
     def run(self, t0: float, times: Sequence[float], x0: np.ndarray, z0: np.ndarray,
-            p: np.ndarray, consistent: bool = False, step0: float | None = None) -> Segment:
+            p: np.ndarray, consistent: bool = False, step0: float | None = None,
+            xdot: np.ndarray | None = None) -> Segment:
         """`consistent`: (x0, z0) solve the algebraic equations already, so IDAS starts from
         der(x) = ode(x0, z0) instead of its own initial-condition search. `step0`: IDAS's first
         step (its own choice depends on the first output time, so on the output grid)."""
         options = self.options if step0 is None else dict(self.options, step0=float(step0))
         if consistent:
-            xdot = np.asarray(self.model.dae(x0, z0, p, t0)[0], dtype=float).reshape(-1)
+            xdot = self.derivative(x0, z0, p, t0) if xdot is None else xdot
             options = dict(options, calc_ic=False, init_xdot=list(xdot))
         times = [float(v) for v in times]
         solver = self._solvers.get((False, float(t0), tuple(times), _options_key(options)),

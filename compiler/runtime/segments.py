@@ -9,18 +9,15 @@ from .options import SimulationOptions
 from .watches import time_breakpoints
 
 
-def first_step(integrator, x, z, p, t0: float, t1: float) -> float:
+def first_step(integrator, x, xdot, t0: float, t1: float) -> float:
     """IDAS's own rule for its first step (a thousandth of the distance, then h * der(x) at most
     0.5 in the weighted RMS norm), applied to the segment's end instead of the first output time,
     on which IDAS would make the run depend; rounded down to a power of 2, so that repeated runs
-    ask for the same integrator objects."""
+    ask for the same integrator objects. `xdot` is der(x) at the start (integrator.derivative),
+    which the run's IDAS call takes as its initial derivative too."""
     model, options = integrator.model, integrator.options
     nx = len(model.state_names)
     h = 1e-3 * (t1 - t0)
-    try:
-        xdot = np.asarray(model.dae(x, z, p, t0)[0], dtype=float).reshape(-1)
-    except RuntimeError:
-        xdot = np.zeros(nx)
     atol = np.asarray(options.get("abstolv", [options.get("abstol", 1e-8)] * nx), dtype=float)[:nx]
     weights = float(options.get("reltol", 1e-6)) * np.abs(np.asarray(x, dtype=float)) + atol
     norm = float(np.sqrt(np.sum((xdot / weights) ** 2) / max(1, nx + len(model.algebraic_names))))
