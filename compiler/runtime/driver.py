@@ -25,7 +25,7 @@ from .options import SimulationOptions
 from .outputs import signals_at
 from .progress import Progress
 from .result import Result
-from .run_state import SWITCHED_TOLERANCE, RunState, StateSetSwitcher
+from .run_state import RunState, StateSetSwitcher, switched_factor
 from .segments import first_step, segment_ends, segment_times, with_clock
 from .static import solve_static
 from .switching import all_outputs, explained, switch_state_set
@@ -86,7 +86,7 @@ def _run_watched(run, model, p, point, progress, stats, began) -> Result:
     if run.bounds_left:                   # declared bounds the run left and went on (bounds="warn")
         stats["bounds_left"] = run.bounds_left
     if run.switches:                      # what IDAS ran at from the first switch on
-        stats["rtol_after_first_switch"] = run.options.rtol / SWITCHED_TOLERANCE
+        stats["rtol_after_first_switch"] = run.options.rtol / switched_factor(run.options.rtol)
     return _result(run, model, len(run.grid), stats)
 
 
