@@ -1,6 +1,10 @@
 """Cold start of `dyadc simulate` (issue 15 item 4): each run a new process, as a user types it.
 
-  uncached   the first run: an empty cache folder, so the model is compiled (and stored)
+  uncached   the first run of a model: an empty cache folder, so the model is compiled (and
+             stored); the shipped library's trees made at install are there (as after `pip
+             install`: compiler/cache/library_trees.py), so its files are not parsed
+  bare       as uncached, without those trees (a package installed without them): every file
+             read is parsed
   cached     the second run of the unchanged model: the compiled model comes from the cache
   no-cache   `--no-cache`: compiled, nothing stored (the first run minus the cache write)
   parsed     compiled again with the parsed source files kept (the compiled models removed, as
@@ -48,10 +52,16 @@ def snapshot(folder: Path, ref: str | None = None) -> Path:
         archive = subprocess.run(["git", "archive", "--format=tar", ref, "compiler", "components"], cwd=ROOT,
                                  capture_output=True, check=True).stdout
         subprocess.run(["tar", "-x", "-C", str(source)], input=archive, check=True)
-    ignore = shutil.ignore_patterns("__pycache__", "*.pyc")
+    ignore = shutil.ignore_patterns("__pycache__", "*.pyc", TREES.name)
     shutil.copytree(source / "compiler", folder / "compiler", ignore=ignore)
     shutil.copytree(source / "components", folder / "compiler" / "components", ignore=ignore)
+    if (folder / "compiler" / "cache" / "library_trees.py").is_file():       # as setup.py does
+        subprocess.run([sys.executable, "-m", "compiler.cache.library_trees", "compiler/components",
+                        str(TREES)], cwd=folder, check=True, capture_output=True)
     return folder
+
+
+TREES = Path("compiler/cache/shipped_trees")      # the trees of the shipped library, in a snapshot
 
 
 def timed_run(command: list[str], env: dict) -> tuple[float, float]:
@@ -89,7 +99,8 @@ def environment(cache: Path, bytecode: Path | None = None) -> dict:
 def measure(model: str, stop: float, repeat: int) -> dict[str, list[tuple[float, float]]]:
     run = ["simulate", model, "--stop", str(stop)]
     samples: dict[str, list[tuple[float, float]]] = {"uncached": [], "cached": [], "no-cache": [],
-                                                      "parsed": []}
+                                                      "parsed": [], "bare": []}
+    trees, hidden = SOURCES / TREES, SOURCES / f"{TREES}.hidden"
     with tempfile.TemporaryDirectory(prefix="dyadc-bench-cache-") as scratch:
         bytecode = Path(scratch) / "bytecode"
         timed_run(dyadc(*run), environment(Path(scratch) / "warm-up", bytecode))
@@ -101,6 +112,14 @@ def measure(model: str, stop: float, repeat: int) -> dict[str, list[tuple[float,
             samples["no-cache"].append(timed_run(dyadc(*run, "--no-cache"), env))
             shutil.rmtree(cache / "models")
             samples["parsed"].append(timed_run(dyadc(*run), env))
+            shutil.rmtree(cache, ignore_errors=True)
+            if trees.is_dir():
+                trees.rename(hidden)
+            try:
+                samples["bare"].append(timed_run(dyadc(*run), env))
+            finally:
+                if hidden.is_dir():
+                    hidden.rename(trees)
             shutil.rmtree(cache, ignore_errors=True)
     return samples
 

@@ -86,6 +86,14 @@ def compile_spec(spec: str, lib_dirs: Sequence[str] = (), *, library: Library | 
     return compile_flat(flat, timings)
 
 
+def _library(lib_dirs: Sequence[str]) -> Library:
+    """A library that takes the shipped library's trees made at install (cache/library_trees.py),
+    as Python takes a module's installed bytecode: nothing of the user's cache is read."""
+    from compiler.cache import library_trees
+    from compiler.model.library import Library
+    return Library(lib_dirs, parser=library_trees.parse_file)
+
+
 def compile_or_load(spec: str, lib_dirs: Sequence[str] = (), *,
                     cache: bool = True) -> Compilation | CachedCompilation:
     """The compiled model of `spec`: from the compilation cache when every source it was compiled
@@ -94,21 +102,21 @@ def compile_or_load(spec: str, lib_dirs: Sequence[str] = (), *,
     at compile time: that run needs the symbolic stages).
     `cache=False` or DYADC_CACHE_DIR=off: compile, read and write nothing."""
     if not cache:
-        return compile_spec(spec, lib_dirs)
+        return compile_spec(spec, lib_dirs, library=_library(lib_dirs))
     from compiler.cache import models
     from compiler.cache.store import CacheError
     try:
         found = models.load(spec, lib_dirs)
     except (OSError, CacheError) as err:
         warnings.warn(f"compilation cache not used: {err}", CacheWarning, stacklevel=2)
-        return compile_spec(spec, lib_dirs)
+        return compile_spec(spec, lib_dirs, library=_library(lib_dirs))
     if found is not None:
         return found
-    from compiler.cache import parsed
+    from compiler.cache import library_trees, parsed
     from compiler.cache.recording import RecordingLibrary
     started = time.time_ns()
     parses = parsed.open_cache()           # the trees of files parsed before, unchanged since
-    library = RecordingLibrary(lib_dirs, parser=None if parses is None else parses.parse)
+    library = RecordingLibrary(lib_dirs, parser=library_trees.parse_file if parses is None else parses.parse)
     compilation = compile_spec(spec, lib_dirs, library=library)
     if parses is not None:
         parses.prune()

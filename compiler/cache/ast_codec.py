@@ -101,13 +101,16 @@ def encode(tree: ast.File) -> bytes:
         raise NotEncodable(str(err)) from None
 
 
-def decode(data: bytes) -> ast.File | None:
-    """The tree `encode` wrote, or None when the data does not fit the current AST classes."""
+def decode(data: bytes, path: str | None = None) -> ast.File | None:
+    """The tree `encode` wrote, or None when the data does not fit the current AST classes.
+    `path`: the file the tree is read for, in place of the one it was parsed at (the shipped
+    library's trees are made where the wheel is built: library_trees.py)."""
     try:
         header, items = json.loads(data)
         if header.get("format") != CODEC_FORMAT:
             return None
-        path = header["path"]
+        written = header["path"]
+        path = written if path is None else path
         classes = []
         for name, fields in header["types"]:
             cls = _NODE_TYPES.get(name)
@@ -117,7 +120,11 @@ def decode(data: bytes) -> ast.File | None:
         tree = _run(items, classes, path)
     except (ValueError, TypeError, KeyError, IndexError):
         return None
-    return tree if type(tree) is ast.File and tree.path == path else None
+    if type(tree) is not ast.File or tree.path != written:
+        return None
+    if path != written:
+        tree.__dict__["path"] = path         # still being built: the spans already name `path`
+    return tree
 
 
 def _run(items: list, classes: list, path: str):

@@ -10,12 +10,14 @@ has a new key. The entry is sealed (store.py) and holds the tree as plain JSON d
 (ast_codec.py, never pickle); a damaged or unreadable one is parsed again and rewritten.
 
 A file that does not parse is not kept: parse_file raises its located error as without the cache.
+A file whose text is one of the shipped library's, as installed, takes the tree made at install
+(library_trees.py) and is not kept here again.
 """
 from __future__ import annotations
 
 from pathlib import Path
 
-from compiler.cache import ast_codec, keys
+from compiler.cache import ast_codec, keys, library_trees
 from compiler.cache.store import CacheError, cache_root, private_folder, read_sealed, write_sealed
 
 PARSED_FOLDER = "parsed"
@@ -41,6 +43,7 @@ class ParseCache:
     def __init__(self, folder: Path):
         self.folder = folder
         self.hits = 0
+        self.shipped_hits = 0
         self.stored = 0
 
     def key(self, path: str, text: str) -> str:
@@ -54,6 +57,11 @@ class ParseCache:
             text = path.read_text(encoding="utf-8")
         except (OSError, UnicodeDecodeError):
             return _parse_file(path)         # its located error
+        shipped = library_trees.find(str(path), text)
+        if shipped is not None:              # a file of the shipped library, as installed
+            register_source(str(path), text)
+            self.shipped_hits += 1
+            return shipped
         entry = self.folder / f"{self.key(str(path), text)}{PARSED_SUFFIX}"
         payload = read_sealed(entry)
         tree = ast_codec.decode(payload) if payload is not None else None

@@ -69,8 +69,9 @@ def digest(data: bytes) -> str:
     return hashlib.sha256(data).hexdigest()
 
 
-def write_sealed(path: Path, payload: bytes) -> None:
-    """`payload` under `path` behind its checksum header, atomically, readable by this user only.
+def write_sealed(path: Path, payload: bytes, mode: int = FILE_MODE) -> None:
+    """`payload` under `path` behind its checksum header, atomically, readable by this user only
+    (`mode`: wider for the files an installation ships, library_trees.py).
 
     Written to a private temporary file (`.NAME.XXXX.tmp`, which prune() removes when a killed
     writer left it) that then replaces `path`. Not flushed to the disk first (fsync cost 5-15 ms
@@ -84,7 +85,7 @@ def write_sealed(path: Path, payload: bytes) -> None:
         with os.fdopen(handle, "wb") as out:
             out.write(header)
             out.write(payload)
-        os.chmod(temporary, FILE_MODE)           # mkstemp gives 0600 already; a umask cannot widen it
+        os.chmod(temporary, mode)                # mkstemp gives 0600 already; a umask cannot widen it
         os.replace(temporary, path)
     except BaseException:
         try:
