@@ -14,6 +14,7 @@ import sympy
 from compiler.errors import DyadError, Span
 from compiler.lower.events import EVENT_CLOCK, Events, find_events, lock_timed_conditions
 from compiler.model.flat import TIME
+from compiler.model.interpolation import InterpolatedFunction
 from compiler.runtime import CompiledModel
 from compiler.structure.reduced import ReducedSystem
 
@@ -146,6 +147,8 @@ class SXLowering:
             return ca.if_else(a > 0, 1.0, ca.if_else(a < 0, 0.0, at_zero))
         if isinstance(node, sympy.Piecewise):
             return self._piecewise(node)
+        if isinstance(node, InterpolatedFunction):      # tabulated data: compiler/model/interpolation.py
+            return ca.SX(node.table.evaluate(memo[node.args[0]], ca.if_else))
         raise LoweringError(f"cannot lower '{type(node).__name__}' (in `{_short(node)}`) to CasADi "
                             f"in {context or self.where}: unsupported function or construct", span)
 

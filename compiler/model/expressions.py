@@ -28,6 +28,7 @@ from compiler.model.flat import TIME, der_name
 from compiler.model.functions import PI, FunctionCallError, as_array, is_array
 from compiler.model.julia_functions import MAX_CALL_DEPTH, JuliaFunction
 from compiler.model.julia_objects import object_call
+from compiler.model.ranges import float_range, is_fractional
 from compiler.model.size_limits import check_elements, check_shape, checked_power, range_length
 from compiler.syntax import ast
 
@@ -330,11 +331,15 @@ def iteration_values(expr: ast.Expr, scope: EvalScope) -> list[Any]:
 
 
 def _range(expr: ast.Range, scope: EvalScope, mode: Mode) -> Any:
-    start = structural_int(evaluate(expr.start, scope, Mode.STRUCTURAL), expr.span, "a range bound")
-    stop = structural_int(evaluate(expr.stop, scope, Mode.STRUCTURAL), expr.span, "a range bound")
+    bounds = [None if part is None else evaluate(part, scope, Mode.STRUCTURAL)
+              for part in (expr.start, expr.step, expr.stop)]
+    if any(is_fractional(bound) for bound in bounds):      # `0:0.1:1`: Julia's float range
+        return as_array(float_range(*bounds, expr.span))
+    start = structural_int(bounds[0], expr.span, "a range bound")
+    stop = structural_int(bounds[2], expr.span, "a range bound")
     step = 1
     if expr.step is not None:
-        step = structural_int(evaluate(expr.step, scope, Mode.STRUCTURAL), expr.span, "a range step")
+        step = structural_int(bounds[1], expr.span, "a range step")
         if step == 0:
             raise DyadError("a range step cannot be zero", expr.span)
     check_elements(range_length(start, stop, step), expr.span, "this range")

@@ -140,6 +140,20 @@ def _length(v):
     return sympy.Integer(_vector(v, "length").shape[0])
 
 
+def _hcat(parts) -> np.ndarray:
+    """Julia's `hcat`: vectors become the columns of a matrix, matrices add their columns."""
+    columns = []
+    for part in parts:
+        part = part if is_array(part) else as_array([_scalar(part, "hcat")])
+        if part.ndim > 2:
+            raise FunctionCallError("`hcat` joins vectors and matrices")
+        columns.append(part.reshape(-1, 1) if part.ndim == 1 else part)
+    rows = sorted({column.shape[0] for column in columns})
+    if len(rows) > 1:
+        raise FunctionCallError(f"`hcat` of columns with different lengths {rows}")
+    return np.concatenate(columns, axis=1)
+
+
 def _gravity_acceleration_2d():
     # The World's g * n with the defaults g = 9.80665, n = [0, -1] (excavator scene 2.1).
     return as_array([sympy.Integer(0), sympy.Float(-9.80665)])
@@ -165,6 +179,7 @@ ELEMENTARY: dict[str, FunctionImpl] = {
     "cross": FunctionImpl("cross", _cross, 2, 2),
     "transpose": FunctionImpl("transpose", _transpose, 1, 1),
     "length": FunctionImpl("length", _length, 1, 1),
+    "hcat": FunctionImpl("hcat", lambda *columns: _hcat(columns), 1, None),
     # Julia's `identity`: published translations wrap selections in it
     "identity": FunctionImpl("identity", lambda value: value, 1, 1),
 }

@@ -22,6 +22,8 @@ from typing import Any, Callable
 from sympy.core.function import AppliedUndef, UndefinedFunction
 
 from compiler.errors import DyadError
+from compiler.model import julia_values
+from compiler.model.interpolation import PiecewisePolynomial
 from compiler.model.julia_media import Medium, medium_of
 from compiler.syntax import ast
 
@@ -53,6 +55,10 @@ def object_call(call: ast.Call, scope: Any, evaluate_in: Callable[[ast.Expr, Any
     if "." not in call.function and call.function in getattr(node, "path_fields", {}):
         # a call through a Julia object (an interpolator): a function of its numeric arguments
         numeric = [evaluate_in(arg, scope) for arg, obj in zip(call.args, objects) if obj is None]
+        table = julia_values.object_value(node, call.function)
+        if isinstance(table, PiecewisePolynomial):      # an interpolator dyadc could build
+            path = f"{node.path}.{call.function}" if node.path else call.function
+            return julia_values.applied(table, path, numeric, call.span)
         return UndefinedFunction(call.function, bases=(OpaqueJuliaCall,))(*numeric)
     if not any(objects):
         return None

@@ -7,6 +7,7 @@ import re
 from dataclasses import fields, is_dataclass
 
 from compiler.errors import DyadError
+from compiler.model import julia_syntax
 from compiler.syntax import ast
 
 # Julia keywords that open a block closed by `end`
@@ -75,7 +76,7 @@ def first_word(statement: str) -> str | None:
 
 def expression(source: str, text: str, offset: int, path: str, known: set[str]) -> ast.Expr:
     from compiler.syntax.parser import parse_expression
-    translated = re.sub(r"(?<![&|])([&|])(?![&|])", r"\1\1", source)
+    translated = re.sub(r"(?<![&|])([&|])(?![&|])", r"\1\1", julia_syntax.translate(source))
     line = text.count("\n", 0, offset)
     column = offset - (text.rfind("\n", 0, offset) + 1)
     try:

@@ -1,0 +1,245 @@
+"""Values of parameters that hold Julia objects dyadc can build: datasets and interpolators.
+
+A Dyad library passes data to its interpolation block as Julia objects:
+
+    structural parameter dataset::DyadDataset = DyadDataset("data.csv", independent_var = "ts",
+                                                            dependent_vars = ["data"])
+    interp = Interpolation(interpolation_type = LinearInterpolation, dataset = dataset)
+    ...
+    final parameter interpolator::RealInterpolator = dataset_interpolation(interpolation_type, dataset)
+    y = interpolator(u)
+
+Such a parameter (a `Native` or function type, or a value naming an interpolation kind) keeps its
+binding here instead of becoming a numeric parameter (compiler/model/instantiate.py). When an
+equation calls it (compiler/model/julia_objects.py), `object_value` evaluates the binding with
+the rules below; a value it cannot build (no binding, a Julia call it does not know) is None, and
+the call stays opaque as before: enough for `dyadc check`, refused by a run.
+
+- `DyadDataset(...)`: compiler/model/datasets.py; `LinearInterpolation`, ... : the kinds of
+  compiler/model/interpolation.py;
+- `dataset_interpolation(kind, dataset)`: the interpolation of the dataset's one dependent
+  variable over its independent one (BlockComponents' Julia helper of that name, whose meaning
+  dyadc implements itself), and `Kind(values, times)` directly;
+- a name of another such parameter: its value, in the scope that binding was written in.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from compiler.errors import DyadError, Note, Span
+from compiler.model import datasets, interpolation
+from compiler.model.interpolation import KINDS, InterpolationError, InterpolationKind, \
+    PiecewisePolynomial
+from compiler.syntax import ast
+
+_DATASET_FUNCTIONS = ("DyadDataset", "DyadData.DyadDataset")
+_INTERPOLATE_FUNCTION = "dataset_interpolation"
+
+
+@dataclass
+class ObjectBinding:
+    """The expression a Julia-object parameter is bound to and the scope it was written in."""
+    path: str
+    expr: ast.Expr | None
+    scope: Any                                  # compiler.model.expressions.EvalScope
+    span: Span | None
+    _state: str = "new"
+    _value: Any = field(default=None, repr=False)
+
+
+def winning_binding(entries: list, decl: Any, own_scope: Any) -> tuple[ast.Expr | None, Any]:
+    """The binding that wins among a declaration's modifiers (outermost first) and its default,
+    as for numeric parameters."""
+    valued = [entry for entry in entries if entry.mod.value is not None]
+    if valued:
+        return valued[0].mod.value, valued[0].scope
+    return getattr(decl, "default", None), own_scope
+
+
+def names_julia_object(expr: ast.Expr | None, scope: Any) -> bool:
+    """Is a (numeric-typed) parameter's value a Julia object after all: an interpolation kind
+    (`interpolation_type::Real = LinearInterpolation`), or another such parameter?"""
+    if not isinstance(expr, ast.Ref) or len(expr.parts) != 1 or expr.parts[0].indices:
+        return False
+    name = expr.parts[0].name
+    node = scope.node
+    if name in getattr(node, "path_fields", {}):
+        return True
+    return name in KINDS and name not in scope.bindings and name not in node.member_names()
+
+
+def record(node: Any, name: str, expr: ast.Expr | None, scope: Any, span: Span | None) -> None:
+    path = f"{node.path}.{name}" if node.path else name
+    node.object_bindings[name] = ObjectBinding(path, expr, scope, span)
+
+
+def object_value(node: Any, name: str) -> Any:
+    """The value of Julia-object parameter `name` of `node`; None when dyadc cannot build it."""
+    binding = getattr(node, "object_bindings", {}).get(name)
+    if binding is None or binding.expr is None:
+        return None
+    if binding._state == "done":
+        return binding._value
+    if binding._state == "evaluating":
+        raise DyadError(f"`{binding.path}` is defined in terms of itself", binding.span)
+    binding._state = "evaluating"
+    try:
+        binding._value = evaluate_object(binding.expr, binding.scope)
+    finally:
+        binding._state = "new"
+    binding._state = "done"
+    return binding._value
+
+
+def applied(table: PiecewisePolynomial, path: str, arguments: list, span: Span | None) -> Any:
+    """`interpolator(u)` in an equation: the interpolant named `path` applied to `u`."""
+    if len(arguments) != 1:
+        raise DyadError(f"`{path}` interpolates one argument, got {len(arguments)}", span)
+    return interpolation.function(table, path)(arguments[0])
+
+
+def evaluate_object(expr: ast.Expr, scope: Any) -> Any:
+    if isinstance(expr, ast.Ref):
+        return _reference(expr, scope)
+    if isinstance(expr, ast.Call):
+        function = expr.function
+        if function in _DATASET_FUNCTIONS:
+            return _dataset(expr, scope)
+        if function.rpartition(".")[2] == _INTERPOLATE_FUNCTION:
+            return _dataset_interpolation(expr, scope)
+        if function in KINDS and function not in scope.node.member_names():
+            return _direct_interpolation(expr, scope)
+    return None
+
+
+def _reference(ref: ast.Ref, scope: Any) -> Any:
+    if any(part.indices for part in ref.parts):
+        return None
+    node = scope.node
+    for part in ref.parts[:-1]:
+        node = getattr(node, "children", {}).get(part.name)
+        if node is None:
+            return None
+    name = ref.parts[-1].name
+    if name in getattr(node, "path_fields", {}):
+        return object_value(node, name)
+    if len(ref.parts) == 1 and name in KINDS and name not in scope.bindings \
+            and name not in node.member_names():
+        return InterpolationKind(name)
+    return None
+
+
+# ------------------------------------------------------------------------------ DyadDataset
+
+def _dataset(call: ast.Call, scope: Any) -> datasets.Dataset:
+    keywords = {k.name: k.value for k in call.kwargs}
+    unknown = sorted(set(keywords) - {"independent_var", "dependent_vars"})
+    if unknown:
+        raise DyadError(f"DyadDataset: dyadc does not support the option `{unknown[0]}` (it reads "
+                        f"comma-, tab- or semicolon-separated files with a header row)", call.span)
+    for needed in ("independent_var", "dependent_vars"):
+        if needed not in keywords:
+            raise DyadError(f"DyadDataset needs `{needed} = ...`", call.span)
+    independent = _string(keywords["independent_var"], scope, "independent_var")
+    dependent = _strings(keywords["dependent_vars"], scope)
+    if len(call.args) == 2:
+        owner, name = (_string(arg, scope, "a JuliaHub dataset's owner and name") for arg in call.args)
+        raise datasets.remote(owner, name, call.span)
+    if len(call.args) != 1:
+        raise DyadError(f"DyadDataset takes a file name or a matrix (or a JuliaHub owner and "
+                        f"name), got {len(call.args)} arguments", call.span)
+    from compiler.model.expressions import Mode, evaluate
+    source = call.args[0]
+    value = evaluate(source, scope, Mode.STRUCTURAL)
+    if isinstance(value, str):
+        library = scope.lexical.library
+        path = datasets.locate(value, call.span, list(getattr(library, "roots", [])))
+        _note_read(library, datasets.candidates_read(value, call.span) + [path])
+        return datasets.from_csv(path, independent, dependent, call.span)
+    return datasets.from_matrix(value, independent, dependent, call.span)
+
+
+def _string(expr: ast.Expr, scope: Any, what: str) -> str:
+    from compiler.model.expressions import Mode, evaluate
+    value = evaluate(expr, scope, Mode.STRUCTURAL)
+    if not isinstance(value, str):
+        raise DyadError(f"DyadDataset: {what} must be a string", getattr(expr, "span", None))
+    return value
+
+
+def _strings(expr: ast.Expr, scope: Any) -> tuple[str, ...]:
+    if not isinstance(expr, ast.ArrayLit) or expr.is_matrix or not expr.elements:
+        raise DyadError("DyadDataset: dependent_vars must be a list of column names, e.g. "
+                        "[\"y\"]", getattr(expr, "span", None))
+    return tuple(_string(element, scope, "each dependent variable") for element in expr.elements)
+
+
+def _note_read(library: Any, paths: list[Path]) -> None:
+    """A cached compile depends on the data file and on every place looked at before it (a file
+    added there later would be read instead): the recording library notes them as sources."""
+    noted = getattr(library, "read_files", None)
+    if noted is not None:
+        noted.update(paths)
+
+
+# ------------------------------------------------------------------------------ interpolations
+
+def _dataset_interpolation(call: ast.Call, scope: Any) -> PiecewisePolynomial | None:
+    if len(call.args) != 2 or call.kwargs:
+        raise DyadError("`dataset_interpolation` takes an interpolation kind and a dataset",
+                        call.span)
+    kind = _kind(call.args[0], scope)
+    dataset = evaluate_object(call.args[1], scope)
+    if kind is None or dataset is None:
+        return None                         # not given here (a component checked alone)
+    if not isinstance(dataset, datasets.Dataset):
+        raise DyadError("the second argument of `dataset_interpolation` is not a DyadDataset",
+                        call.span)
+    if len(dataset.dependent_vars) != 1:
+        raise DyadError(f"`dataset_interpolation` interpolates one dependent variable, but the "
+                        f"dataset names {len(dataset.dependent_vars)}", call.span,
+                        notes=[Note("the dataset is declared here", dataset.span)])
+    name = dataset.dependent_vars[0]
+    return _build(kind, list(dataset.column(name)), list(dataset.column(dataset.independent_var)),
+                  f"{kind.name} of `{name}` over `{dataset.independent_var}` in {dataset.label}",
+                  call.span, dataset.span)
+
+
+def _direct_interpolation(call: ast.Call, scope: Any) -> PiecewisePolynomial:
+    from compiler.model.expressions import Mode, evaluate
+    if len(call.args) != 2 or call.kwargs:
+        raise DyadError(f"`{call.function}(values, times)` takes two arrays (dyadc supports no "
+                        f"options)", call.span)
+    u, t = (_floats(evaluate(arg, scope, Mode.STRUCTURAL), call) for arg in call.args)
+    return _build(InterpolationKind(call.function), u, t, f"{call.function} at {call.span}",
+                  call.span, None)
+
+
+def _kind(expr: ast.Expr, scope: Any) -> InterpolationKind | None:
+    value = evaluate_object(expr, scope)
+    if value is None or isinstance(value, InterpolationKind):
+        return value
+    raise DyadError(f"not an interpolation kind; dyadc knows {', '.join(KINDS)}",
+                    getattr(expr, "span", None))
+
+
+def _floats(value: Any, call: ast.Call) -> list[float]:
+    import numpy as np
+    if not isinstance(value, np.ndarray) or value.ndim != 1:
+        raise DyadError(f"`{call.function}` takes vectors of numbers", call.span)
+    try:
+        return [float(v) for v in value]
+    except (TypeError, ValueError):
+        raise DyadError(f"`{call.function}` needs numbers known at compile time", call.span) from None
+
+
+def _build(kind: InterpolationKind, u: list[float], t: list[float], label: str, span: Span | None,
+           data_span: Span | None) -> PiecewisePolynomial:
+    try:
+        return kind.build(u, t, label)
+    except InterpolationError as exc:
+        raise DyadError(f"cannot interpolate {label}: {exc}", span,
+                        notes=[Note("the dataset is declared here", data_span)] if data_span else
+                        []) from None
