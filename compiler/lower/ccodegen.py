@@ -7,11 +7,13 @@ instead makes IDAS 10-200x slower, and the integrator's own 'jit' option recompi
 construction and took 11 s for a 600-unknown model).
 
 The same library holds the functions of (x, z, p, t) the runtime evaluates at every output point
-(`pointwise_functions`: every output, the Newton step and residual of the algebraic equations),
-which compiler/runtime/outputs.py otherwise runs on the VM. Excavator at -O1 (CPU): outputs and
-polishing at 1201 points 7.4 + 9.8-14.7 ms -> 1.9 + 2.7 ms, bit-identical; the build grows from
-0.76 s and 112 kB to 1.17 s and 183 kB (the whole library at -O0: 0.44 s, but outputs and polishing
-then take 4.4 + 4.7 ms, most of the gain gone; -O2 runs no faster).
+(`pointwise_functions`: every output, the Newton step of the algebraic equations), which
+compiler/runtime/outputs.py and polishing.py otherwise run on the VM. Excavator at -O1 (CPU):
+outputs and polishing at 1201 points 7.4 + 9.8-14.7 ms -> 1.9 + 2.7 ms, bit-identical; the build
+grows from 0.76 s and 112 kB to 1.17 s and 183 kB (the whole library at -O0: 0.44 s, but outputs
+and polishing then take 4.4 + 4.7 ms, most of the gain gone; -O2 runs no faster). With the
+one-function Newton step (polishing.py) in place of the Newton function and the residual:
+polishing 1.9 ms, the build 1.07 s and 175 kB.
 
 `jac_dyad_dae` differentiates with respect to x and z only: its t and p blocks are structurally
 zero. IDAS (and its consistent-initial-condition step) uses only d(ode, alg)/d(x, z); the t and
@@ -38,7 +40,7 @@ from pathlib import Path
 import casadi as ca
 
 from compiler.lower import c_cache
-from compiler.runtime import CompiledModel
+from compiler.runtime import CompiledModel, polishing
 
 FLAGS = ["-O1", "-fPIC", "-shared"]
 COMPILE_TIMEOUT = 600
@@ -82,14 +84,17 @@ def state_jacobian(dae: ca.Function) -> ca.Function:
 
 def pointwise_functions(model: CompiledModel) -> list[ca.Function]:
     """The functions of (x, z, p, t) the runtime evaluates at every output point, under the names
-    `CompiledModel.native_function` looks up: every output, and the Newton step and residual of
-    the algebraic equations (the polishing of z); the same expressions as on the VM."""
+    `CompiledModel.native_function` looks up: every output, and what the polishing of z uses
+    (compiler/runtime/polishing.py: its one-function Newton step for a small algebraic system,
+    else the Newton function and the residual); the same expressions as on the VM."""
     x, z, p, t = model.symbols()
     alg = model.dae(x, z, p, t)[1]
     names = CompiledModel.NATIVE_FUNCTION_NAMES
-    return [ca.Function(names["outputs"], [x, z, p, t], [model.outputs(x, z, p, t)]),
-            ca.Function(names["algebraic_newton"], [x, z, p, t], [alg, ca.jacobian(alg, z)]),
-            ca.Function(names["algebraic_residual"], [x, z, p, t], [alg])]
+    functions = [ca.Function(names["outputs"], [x, z, p, t], [model.outputs(x, z, p, t)])]
+    if 0 < z.numel() <= polishing.FUSED_UP_TO:
+        return functions + [polishing.newton_step_function(model, names["newton_step"])]
+    return functions + [ca.Function(names["algebraic_newton"], [x, z, p, t], [alg, ca.jacobian(alg, z)]),
+                        ca.Function(names["algebraic_residual"], [x, z, p, t], [alg])]
 
 
 def c_source(model: CompiledModel) -> str:

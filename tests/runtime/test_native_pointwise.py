@@ -17,7 +17,7 @@ from tests.runtime.test_outputs_vectorized import points, small_model
 from compiler import runtime
 from compiler.lower import ccodegen
 from compiler.lower.to_casadi import lower
-from compiler.runtime import outputs
+from compiler.runtime import outputs, polishing
 
 pytestmark = pytest.mark.skipif(ccodegen.find_compiler() is None, reason="no C compiler")
 ROUND_OFF = dict(rtol=1e-12, atol=1e-14)
@@ -38,19 +38,35 @@ def native(model: runtime.CompiledModel) -> runtime.CompiledModel:
 def test_the_library_holds_outputs_and_the_algebraic_newton_step(cache):
     vm = small_model()
     c = native(vm)
-    for role in ("outputs", "algebraic_newton", "algebraic_residual"):
+    for role in ("outputs", "newton_step"):          # two algebraic unknowns: the one-function step
         assert c.native_function(role) is not None, role
         assert vm.native_function(role) is None
+    assert c.native_function("algebraic_newton") is None and c.native_function("algebraic_residual") is None
     xs, zs, times = points(vm, 3)
     p = vm.parameter_vector()
+    step = polishing.newton_step_function(vm)
     for k in (0, 17, len(times) - 1):
         args = (xs[:, k], zs[:, k], p, times[k])
         np.testing.assert_allclose(np.asarray(c.native_function("outputs")(*args)),
                                    np.asarray(vm.outputs(*args)), **ROUND_OFF)
-        r, jac = c.native_function("algebraic_newton")(*args)
-        r_vm, jac_vm = vm.algebraic_newton()(*args)
-        np.testing.assert_allclose(np.asarray(r), np.asarray(r_vm), **ROUND_OFF)
-        np.testing.assert_allclose(np.asarray(ca.densify(jac)), np.asarray(ca.densify(jac_vm)), **ROUND_OFF)
+        for got, expected in zip(c.native_function("newton_step")(*args), step(*args)):
+            np.testing.assert_allclose(np.asarray(got), np.asarray(expected), **ROUND_OFF)
+
+
+def test_a_larger_algebraic_system_gets_the_newton_function_and_the_residual(monkeypatch):
+    """Above FUSED_UP_TO unknowns the step is solved by numpy, from these two functions."""
+    names = runtime.CompiledModel.NATIVE_FUNCTION_NAMES
+    vm = small_model()
+    assert [f.name() for f in ccodegen.pointwise_functions(vm)] == [names["outputs"], names["newton_step"]]
+    monkeypatch.setattr(polishing, "FUSED_UP_TO", 1)
+    functions = ccodegen.pointwise_functions(vm)
+    assert [f.name() for f in functions] == [names[r] for r in ("outputs", "algebraic_newton", "algebraic_residual")]
+    xs, zs, times = points(vm, 3)
+    p = vm.parameter_vector()
+    r, jac = functions[1](xs[:, 0], zs[:, 0], p, times[0])
+    r_vm, jac_vm = vm.algebraic_newton()(xs[:, 0], zs[:, 0], p, times[0])
+    np.testing.assert_allclose(np.asarray(r), np.asarray(r_vm), **ROUND_OFF)
+    np.testing.assert_allclose(np.asarray(ca.densify(jac)), np.asarray(ca.densify(jac_vm)), **ROUND_OFF)
 
 
 def test_polished_outputs_in_c_equal_the_vm_ones(cache):
@@ -86,7 +102,8 @@ def test_asked_rows_equal_the_vm_ones_either_way(cache, monkeypatch, cheaper_in_
 def test_a_simulation_in_c_reports_the_vm_values(cache):
     vm = lower(systems.pendulum_cartesian(0.9))
     c = native(vm)
-    assert c.algebraic_names and c.native_function("algebraic_newton") is not None
+    fused = len(c.algebraic_names) <= polishing.FUSED_UP_TO
+    assert c.algebraic_names and c.native_function("newton_step" if fused else "algebraic_newton") is not None
     a = runtime.simulate(vm, 2.0, points=301, rtol=1e-10, atol=1e-12)
     b = runtime.simulate(c, 2.0, points=301, rtol=1e-10, atol=1e-12)
     # the integrator's Jacobian differs in round-off between C and the VM, so the trajectories

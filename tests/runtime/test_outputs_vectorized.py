@@ -9,7 +9,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
-from compiler.runtime import CompiledModel, ModelInputError, simulate
+from compiler.runtime import CompiledModel, ModelInputError, polishing, simulate
 from compiler.runtime.outputs import (BLOCK, PointwiseEvaluator, evaluate_outputs, output_rows_function,
                                       polish_algebraics, signals_at)
 
@@ -113,6 +113,30 @@ def test_polishing_equals_the_point_by_point_newton_steps_and_solves_the_equatio
     residual = one_by_one(ca.Function("alg", inputs, [model.dae(*inputs)[1]]), xs, got, p, times)
     assert np.abs(residual).max() < 1e-12
     assert np.array_equal(zs, np.vstack([z0, np.sin(z0) + c * times]) + 1e-4)      # input unchanged
+
+
+@pytest.mark.parametrize("fused_up_to", [4, 0])        # the one-function step, and numpy's solves
+def test_a_second_newton_step_is_taken_only_where_the_first_leaves_z_unsettled(monkeypatch, fused_up_to):
+    monkeypatch.setattr(polishing, "FUSED_UP_TO", fused_up_to)
+    model = small_model()
+    xs, _, times = points(model, 3)
+    p = model.parameter_vector()
+    b, c = p[1], p[2]
+    z0 = np.array([min(np.roots([1, 0, 1, -x * b]), key=lambda root: abs(root.imag)).real for x in xs[0]])
+    far = np.arange(POINTS) % 3 == 0                  # far off: one step leaves them 1e-8 away
+    zs = np.vstack([z0, np.sin(z0) + c * times]) + np.where(far, 1e-4, 1e-9)
+    calls = []
+    original = polishing._newton_step
+
+    def counted(model_):
+        step = original(model_)
+        return lambda xs_, zs_, p_, t_: (calls.append(len(t_)), step(xs_, zs_, p_, t_))[1]
+    monkeypatch.setattr(polishing, "_newton_step", counted)
+    got = polish_algebraics(model, xs, zs, p, times)
+    assert calls == [POINTS, int(far.sum())]
+    expected = np.column_stack([newton_reference(model, xs[:, k], zs[:, k], p, times[k], 2 if far[k] else 1)
+                                for k in range(POINTS)])
+    np.testing.assert_allclose(got, expected, rtol=1e-14, atol=1e-300)
 
 
 def test_signals_that_do_not_depend_on_z_are_not_polished_and_the_others_are():
