@@ -194,7 +194,7 @@ def _number(fields, position: int, name: str, file: str, line: int, width: int,
         number = None
     if number is None or not math.isfinite(number):
         what = "is empty" if not text.strip() else f"`{text.strip()}` is not a finite number"
-        raise DyadError(f"value of column `{name}` {what}", Span(file, line, column, line,
+        raise DyadError(f"the value of column `{name}` {what}", Span(file, line, column, line,
                                                                    column + max(len(text), 1) - 1),
                         notes=_used_at(span))
     return number
