@@ -16,9 +16,11 @@ from compiler.model.size_limits import check_elements
 
 
 def is_fractional(value: Any) -> bool:
-    """A number that is not an integer (a range over it is not an integer range)."""
-    return isinstance(value, sympy.Basic) and value.is_number and value.is_Integer is False \
-        and value.is_real is not False
+    """A real number with a fractional part: a range over it is not an integer range (integral
+    floats such as 3.0 keep the integer range they always gave)."""
+    if not (isinstance(value, (sympy.Float, sympy.Rational)) and value.is_finite):
+        return False
+    return not value.is_Integer and not float(value).is_integer()
 
 
 def float_range(start: Any, step: Any, stop: Any, span: Span | None) -> list[sympy.Float]:
