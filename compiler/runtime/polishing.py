@@ -36,9 +36,10 @@ FUSED_UP_TO = 4
 
 
 def polish_algebraics(model: CompiledModel, xs: np.ndarray, zs: np.ndarray, p: np.ndarray,
-                      grid: np.ndarray, iterations: int = 2) -> np.ndarray:
+                      grid: np.ndarray, iterations: int = 2, settled: float = SETTLED) -> np.ndarray:
     """z at the points (xs, zs) of `grid` after at most `iterations` Newton steps (see the
-    module's docstring); `p` is one parameter vector or one column per point."""
+    module's docstring); `p` is one parameter vector or one column per point. `settled` 0 takes
+    every step (a point a run restarts from: a state-set switch)."""
     nz, n = zs.shape
     if nz == 0 or n == 0:
         return zs
@@ -51,11 +52,11 @@ def polish_algebraics(model: CompiledModel, xs: np.ndarray, zs: np.ndarray, p: n
     times = np.asarray(grid, dtype=float)
     for first, last, p_run in parameter_runs(p, n):
         z[:, first:last] = _polish_run(step, xs[:, first:last], z[:, first:last], p_run,
-                                       times[first:last], iterations)
+                                       times[first:last], iterations, settled)
     return z
 
 
-def _polish_run(step, xs, z, p, times, iterations: int) -> np.ndarray:
+def _polish_run(step, xs, z, p, times, iterations: int, settled: float) -> np.ndarray:
     """The Newton steps on points that share p, each from the points the one before left
     unsettled."""
     scale = np.abs(z).max(axis=1, keepdims=True)
@@ -65,7 +66,7 @@ def _polish_run(step, xs, z, p, times, iterations: int) -> np.ndarray:
         candidate, r, r_new, moves = step(xs[:, sub], z[:, sub], p, times[sub])
         better = np.all(np.isfinite(r_new), axis=0) & (np.abs(r_new).max(axis=0) <= np.abs(r).max(axis=0))
         z[:, active[better]] = candidate[:, better]
-        unsettled = np.any(np.abs(moves[:, better]) > SETTLED * (np.abs(candidate[:, better]) + scale), axis=0)
+        unsettled = np.any(np.abs(moves[:, better]) > settled * (np.abs(candidate[:, better]) + scale), axis=0)
         active = active[better][unsettled]
         if active.size == 0:
             break
