@@ -10,6 +10,7 @@ import numpy as np
 
 from .errors import InitializationFailed
 from .model import CompiledModel
+from .pointwise import PointwiseEvaluator
 
 
 class InitialPoint:
@@ -133,10 +134,14 @@ def consistent_initialization(model: CompiledModel, p: np.ndarray, t0: float, *,
     """
     nx = len(model.state_names)
     fun = model.init_jacobian()
+    # through numpy buffers, not CasADi matrices (excavator: 0.13 -> 0.05 ms an evaluation)
+    single = model.derived(("evaluator", "init_jacobian"), lambda: PointwiseEvaluator(fun, block=1))
+    n_rows, n_columns = fun.size_out(1)
+    times = np.array([float(t0)])
 
     def evaluate(w_: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        r_, j_ = fun(w_[:nx], w_[nx:], p, t0)
-        return np.asarray(r_, dtype=float).reshape(-1), np.asarray(ca.densify(j_), dtype=float)
+        r_, j_ = single.evaluate(w_[:nx, None], w_[nx:, None], p, times)
+        return r_[:, 0].copy(), j_[:, 0].reshape(n_columns, n_rows).T.copy()
 
     w0 = np.concatenate([model.x_guess, model.z_guess]).astype(float)
     from .linear_solver import sparse_initial_point      # large sparse systems: sparse Newton

@@ -110,6 +110,8 @@ def sparse_initial_point(init_jacobian: ca.Function, nx: int, p: np.ndarray, t0:
         r, jac = init_jacobian(w[:nx], w[nx:], p, t0)
         return np.asarray(r, dtype=float).reshape(-1), jac
 
+    if len(w0) < SPARSE_NEWTON_FROM:               # small: dense, and no evaluation to decide it
+        return None
     r, jac = evaluate(np.asarray(w0, dtype=float))
     if not is_large_sparse(len(w0), jac):
         return None

@@ -26,13 +26,15 @@ class PointwiseEvaluator:
     width, bound to the arrays anew at every call), so one evaluator serves any number of runs."""
 
     def __init__(self, function: ca.Function, block: int = BLOCK):
+        """`block`: the points per mapped call (1: no map, for a function evaluated at single
+        points only)."""
         if function.n_in() != 4:
             raise ValueError(f"{function.name()} takes {function.n_in()} inputs, not (x, z, p, t)")
         self.function = function
         self.block = block
         # (points per call, function): whole blocks first, then small blocks, then single points
         self.widths = [(width, function.map(f"{function.name()}_{width}", "serial", width, [2], []))
-                       for width in sorted({block, SMALL_BLOCK}, reverse=True) if width > 1]
+                       for width in sorted({block, min(block, SMALL_BLOCK)}, reverse=True) if width > 1]
         self.widths.append((1, function))
         self.sizes_in = [function.nnz_in(i) for i in range(4)]
         self.stored_rows = [function.nnz_out(j) for j in range(function.n_out())]
