@@ -133,14 +133,19 @@ def candidates_read(name: str, span: Span | None) -> list[Path]:
 def from_csv(path: Path, independent_var: str, dependent_vars: tuple[str, ...],
              span: Span | None) -> Dataset:
     """The selected columns of a CSV file whose first line names its columns."""
-    size = path.stat().st_size
+    try:
+        size = path.stat().st_size
+        if size <= MAX_DATA_FILE_BYTES:
+            with open(path, "rb") as handle:
+                raw = handle.read(MAX_DATA_FILE_BYTES + 1)      # the file may grow meanwhile
+            size = len(raw)
+    except OSError as exc:
+        raise DyadError(f"cannot read data file {path}: {exc.strerror or exc}", span) from None
     if size > MAX_DATA_FILE_BYTES:
-        raise DyadError(f"data file {path} is {size:,} bytes, more than the limit of "
+        raise DyadError(f"data file {path} is {size:,} bytes or more, above the limit of "
                         f"{MAX_DATA_FILE_BYTES:,} for data read at compile time", span,
                         hint="interpolating that many samples would make every evaluation of the "
                              "model slow; resample the data to fewer rows")
-    with open(path, "rb") as handle:
-        raw = handle.read(MAX_DATA_FILE_BYTES + 1)
     file = str(path)
     try:
         text = raw.decode("utf-8-sig")

@@ -127,7 +127,17 @@ def test_times_that_do_not_increase_are_refused_at_the_interpolation(tmp_path):
 def test_a_large_file_is_refused_before_it_is_read(tmp_path, monkeypatch):
     spec, _ = model(tmp_path, file_dataset(), csv="t,v\n" + "".join(f"{k},{k}\n" for k in range(50)))
     monkeypatch.setattr(datasets, "MAX_DATA_FILE_BYTES", 100)
-    assert "more than the limit of 100" in located(spec).message
+    assert "above the limit of 100" in located(spec).message
+
+
+def test_an_unreadable_file_is_a_located_error(tmp_path, monkeypatch):
+    spec, _ = model(tmp_path, file_dataset(), csv="t,v\n0,1\n")
+
+    def refuse(*args, **kwargs):
+        raise PermissionError(13, "Permission denied")
+    monkeypatch.setattr(datasets, "open", refuse, raising=False)     # shadows the builtin there
+    error = located(spec)
+    assert "cannot read data file" in error.message and "Permission denied" in error.message
 
 
 def test_the_rows_read_count_against_the_element_limit(tmp_path):
