@@ -189,3 +189,11 @@ def test_generated_c_and_python_modules_compute_the_same_numbers(tmp_path):
     exec(compile(path.read_text(encoding="utf-8"), str(path), "exec"), namespace)
     generated = namespace["simulate"](2.0, **TIGHT)
     assert generated["area"][-1] == pytest.approx(vm["area"][-1], rel=1e-12)
+
+
+def test_an_interpolator_built_from_values_and_times(tmp_path):
+    scipy_interpolate = pytest.importorskip("scipy.interpolate")
+    model, lib = project(tmp_path)
+    result = simulate(f"{model}:Spline", stop=3.0, lib_dirs=[str(lib)], points=61, **TIGHT)
+    reference = scipy_interpolate.CubicSpline([0, 1, 2, 3], [1, 3, 2, 5], bc_type="natural")
+    np.testing.assert_allclose(result["y"], reference(np.asarray(result.time)), atol=1e-12)
