@@ -56,6 +56,7 @@ def flatten_spec(spec: str, lib_dirs: Sequence[str] = (), *,
 @fewer_collections()
 def compile_flat(flat: FlatSystem, timings: dict[str, float] | None = None) -> Compilation:
     from compiler.lower.state_set_enumeration import with_variants
+    from compiler.lower.universal_variant import with_universal
     from compiler.lower.state_set_variants import build_variant, monitored_levels
     from compiler.lower.to_casadi import lower
     from compiler.model.model_check import require_standalone
@@ -74,6 +75,8 @@ def compile_flat(flat: FlatSystem, timings: dict[str, float] | None = None) -> C
     if monitored_levels(flat, analysis, report):
         variant = build_variant(flat, analysis, None, reduced=reduced, report=report)
         variant = with_variants(flat, analysis, variant)      # every state set, built once now
+        if not variant.model.variants:       # too many to build: any one made at run time from one system
+            variant = with_universal(analysis, variant)
         model = variant.model
     else:
         model = lower(reduced)

@@ -18,7 +18,8 @@ from .options import SimulationOptions
 from .outputs import evaluate_outputs, polish_algebraics
 from .result import Result
 from .state_sets import SWITCH_RATIO, pivoted_columns, state_selection_quality
-from .variants import VariantSwitcher, simulate
+from .universal import simulate
+from .variants import VariantSwitcher
 
 __all__ = ["CompiledModel", "FORMAT_VERSION", "InitializationFailed", "ModelInputError", "Result",
            "SWITCH_RATIO", "SimulationFailed", "SimulationInterrupted", "SimulationOptions",

@@ -15,8 +15,8 @@ import numpy as np
 
 from .errors import ModelInputError, did_you_mean
 
-FORMAT_VERSION = 4                  # 3: the state-set variants (`variants`); 4: their alias folds
-_READABLE_FORMATS = (1, 2, 3, 4)
+FORMAT_VERSION = 5                  # 3: the state-set variants (`variants`); 4: their alias folds;
+_READABLE_FORMATS = (1, 2, 3, 4, 5)  # 5: the system every state set is made from (`universal`)
 
 
 class CompiledModel:
@@ -32,7 +32,9 @@ class CompiledModel:
     `state_sets` lists the levels of the dummy-derivative choice that can degrade along a
     trajectory (see state_sets.py); `metadata["bounds"]` the declared min/max of outputs.
     `variants` maps each other state set (its dummy derivatives, a frozenset of names) to its
-    model, every one derived at compile time (variants.py switches among them).
+    model, every one derived at compile time (variants.py switches among them). A model with more
+    state sets than are derived one by one carries instead `universal`: its index-1 system with
+    every unknown algebraic, from which universal.py makes the model of any state set.
     """
 
     FUNCTION_NAMES = ("dae", "init", "outputs", "params")
@@ -54,7 +56,8 @@ class CompiledModel:
                  events: ca.Function | None = None, event_labels: Sequence[str] | None = None,
                  time_events: ca.Function | None = None,
                  time_event_labels: Sequence[str] | None = None,
-                 variants: Mapping[frozenset, "CompiledModel"] | None = None):
+                 variants: Mapping[frozenset, "CompiledModel"] | None = None,
+                 universal: "CompiledModel | None" = None):
         self.name = name
         self.state_names = list(state_names)
         self.algebraic_names = list(algebraic_names)
@@ -78,6 +81,7 @@ class CompiledModel:
         self.state_sets = list(state_sets or [])
         self.metadata = dict(metadata or {})
         self.variants = dict(variants or {})
+        self.universal = universal
         self.native_library: str | None = None
         self.compile_time: float | None = None        # set by the compiler; not serialized
         self._output_index = {n: i for i, n in enumerate(self.output_names)}
@@ -142,7 +146,8 @@ class CompiledModel:
         functions.update({f: getattr(self, f).serialize() for f in self.OPTIONAL_FUNCTIONS
                           if getattr(self, f) is not None})
         return {
-            "format_version": FORMAT_VERSION,
+            # the oldest format that holds the model: a runtime that predates `universal` reads the rest
+            "format_version": FORMAT_VERSION if self.universal is not None else 4,
             "name": self.name,
             "state_names": self.state_names,
             "algebraic_names": self.algebraic_names,
@@ -162,6 +167,7 @@ class CompiledModel:
             **({"variants": [{"dummies": sorted(key), "model": model.to_dict()}
                              for key, model in sorted(self.variants.items(), key=lambda kv: sorted(kv[0]))]}
                if self.variants else {}),
+            **({"universal": self.universal.to_dict()} if self.universal is not None else {}),
         }
 
     @classmethod
@@ -183,7 +189,9 @@ class CompiledModel:
                    time_event_labels=data.get("time_event_labels"),
                    metadata=data.get("metadata"),
                    variants={frozenset(v["dummies"]): cls.from_dict(v["model"])
-                             for v in data.get("variants", ())}, **functions)
+                             for v in data.get("variants", ())},
+                   universal=cls.from_dict(data["universal"]) if "universal" in data else None,
+                   **functions)
 
     # -- parameters --------------------------------------------------------------------------------
     @property

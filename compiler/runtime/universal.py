@@ -1,0 +1,134 @@
+"""The model of any state set, made at run time from the one system every state set shares.
+
+A model with more state sets than the compiler derives one by one carries its index-1 system with
+every unknown algebraic (`CompiledModel.universal`, compiler/lower/universal_variant.py). For a
+choice of dummy derivatives D, a variable v whose derivative der(v) is an unknown is a state when
+neither v nor der(v) is in D, with der(v) = (the unknown der(v)); every other unknown is
+algebraic. The variant's functions are the universal ones with their inputs permuted (CasADi
+inlines them: no compiler, no sympy), and its monitored levels (`state_sets`) follow the choice as
+the compiled variants' do (compiler/lower/state_set_variants.py): the levels of the selection
+layout whose candidates outnumber their rows and whose chosen pivot block depends on the unknowns.
+So a generated module switches to every state set the in-process run reaches.
+"""
+from __future__ import annotations
+
+from typing import Mapping
+
+import casadi as ca
+
+from .model import CompiledModel
+from . import variants
+from .variants import DUMMIES, SELECTION, folds_by_name, propagating, selection_output
+
+UNIVERSAL = "universal_system"          # metadata written by compiler/lower/universal_variant.py
+ZERO = "__zero"                         # an output that is 0: a structurally zero Jacobian entry
+
+
+def variant_of(universal: CompiledModel, dummies: frozenset[str], selection: Mapping) -> CompiledModel:
+    """The model of the state set whose dummy derivatives are `dummies`."""
+    info = universal.metadata[UNIVERSAL]
+    derivative: Mapping[str, str] = info["derivative"]
+    unknowns = list(universal.algebraic_names)
+    states = [v for v in unknowns if v in derivative and v not in dummies and derivative[v] not in dummies]
+    state_set = set(states)
+    algebraics = [v for v in unknowns if v not in state_set]
+    x, z = ca.SX.sym("x", len(states)), ca.SX.sym("z", len(algebraics))
+    p, t = ca.SX.sym("p", len(universal.parameter_names)), ca.SX.sym("t")
+    where = {name: x[i] for i, name in enumerate(states)}
+    where.update({name: z[i] for i, name in enumerate(algebraics)})
+    u = ca.vertcat(*[where[name] for name in unknowns]) if unknowns else ca.SX(0, 1)
+    none = ca.SX(0, 1)
+    alg = universal.dae(none, u, p, t)[1][:int(info["equations"])]
+    ode = ca.vertcat(*[where[derivative[s]] for s in states]) if states else ca.SX(0, 1)
+    values = ca.vertcat(universal.outputs(none, u, p, t), ca.SX(1, 1) * 0)
+    output_names = list(universal.output_names) + [ZERO]
+    inputs, labels = [x, z, p, t], ["x", "z", "p", "t"]
+    events = None
+    if universal.events is not None:
+        events = ca.Function("events", inputs, [universal.events(none, u, p, t)], labels, ["zero"])
+    guesses = dict(zip(universal.algebraic_names, universal.z_guess))
+    model = CompiledModel(
+        name=universal.name, state_names=states, algebraic_names=algebraics,
+        parameter_names=universal.parameter_names, parameter_defaults=universal.parameter_defaults,
+        parameter_tunable=universal.parameter_tunable, output_names=output_names,
+        x_guess=[guesses.get(s, 0.0) for s in states], z_guess=[guesses.get(s, 0.0) for s in algebraics],
+        dae=ca.Function("dae", inputs, [ode, alg], labels, ["ode", "alg"]),
+        init=ca.Function("init", inputs, [alg], labels, ["residuals"]),
+        outputs=ca.Function("outputs", inputs, [values], labels, ["values"]),
+        params=universal.params, nominals=universal.nominals,
+        events=events, event_labels=universal.event_labels,
+        time_events=universal.time_events, time_event_labels=universal.time_event_labels,
+        metadata={**{k: v for k, v in universal.metadata.items() if k != UNIVERSAL},
+                  DUMMIES: sorted(dummies), SELECTION: dict(selection)})
+    levels = monitored_levels(selection, dummies, info.get("stand_ins", ()), output_names, values,
+                              ca.vertcat(u, t))
+    return model.replace(state_sets=levels)
+
+
+def monitored_levels(selection: Mapping, dummies: frozenset[str], stand_in_pairs, output_names: list[str],
+                     values: ca.SX, varying_in: ca.SX) -> list[dict]:
+    """The levels of the choice `dummies` that can degrade, in the runtime's plain form
+    (CompiledModel.state_sets): a level's rows without its alias rows, its candidates without the
+    folded w columns, and only where there are more candidates than rows, the chosen block depends
+    on the unknowns or time (stand-ins for a kept state aside), and not only a hinted state could
+    take over. `varying`: the unknowns and time, as symbols of `values`."""
+    at = {name: i for i, name in enumerate(output_names)}
+    levels = selection["levels"]
+    candidates = set(levels[0]["order"]) if levels else set()
+    out = []
+    for k, level in enumerate(levels):
+        order = [c for c in level["order"] if c in candidates]
+        partner = folds_by_name(level, order)
+        fold_rows = {int(r) for r, u, w in level.get("folds", ()) if u in partner and partner[u] == w}
+        chosen = [c for c in order if c in dummies]
+        taken = set(chosen)
+        rows = [i for i in range(int(level["rows"])) if i not in fold_rows]
+        folded = [c for c in order if c not in partner.values()]
+        folded_chosen = [c for c in chosen if c not in partner.values() and
+                         (c not in partner or partner[c] in taken)]
+        priority = level["priority"]
+        if len(folded) > len(rows):
+            kept = [c for c in folded if c not in folded_chosen]
+            stand_ins = {b for a, b in stand_in_pairs if a in set(kept)}
+            entry = {(i, c): at.get(selection_output(k, i, c), at[ZERO]) for i in rows for c in folded}
+            varying = [c for c in folded_chosen if c not in stand_ins and any(
+                ca.depends_on(values[entry[(i, c)]], varying_in) for i in rows)]
+            if varying and not (kept and min(priority[c] for c in kept) > max(priority[c] for c in varying)):
+                classes: dict[int, list[int]] = {}
+                for j in sorted(range(len(folded)), key=lambda j: (priority[folded[j]], j)):
+                    classes.setdefault(priority[folded[j]], []).append(j)
+                out.append({"rows": len(rows), "candidates": folded,
+                            "chosen": [folded.index(c) for c in folded_chosen],
+                            "classes": list(classes.values()),
+                            "entries": [entry[(i, c)] for i in rows for c in folded]})
+        candidates = {level["next"][c] for c in propagating(chosen, partner) if c in level["next"]}
+    return out
+
+
+def simulate(model: CompiledModel, stop: float | None = None, *, switcher=None, **settings):
+    """variants.simulate (the driver's arguments); a model that carries its universal system
+    instead of its variants switches among the state sets made from it."""
+    if switcher is None and model.universal is not None and not model.variants \
+            and SELECTION in model.metadata:
+        switcher = UniversalSwitcher(model)
+    return variants.simulate(model, stop, switcher=switcher, **settings)
+
+
+class UniversalSwitcher:
+    """The runtime's StateSetSwitcher for a model with a universal system: at a switch point, the
+    model of the choice variants.dummy_choice makes there (as VariantSwitcher does among compiled
+    variants), made once per model and choice and kept with the model."""
+
+    def __init__(self, model: CompiledModel):
+        self.first = model
+        self.selection = model.metadata[SELECTION]
+        self.public_names = list(self.selection["public"])
+
+    def switch(self, model: CompiledModel, values: Mapping[str, float], t: float) -> CompiledModel:
+        dummies = variants.dummy_choice(self.selection["levels"], values)
+        if dummies is None:
+            return model                      # no regular choice here: the driver reports it
+        if dummies == frozenset(self.first.metadata.get(DUMMIES, ())):
+            return self.first
+        return self.first.derived(("universal variant", dummies),
+                                  lambda: variant_of(self.first.universal, dummies, self.selection))
