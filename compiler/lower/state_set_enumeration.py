@@ -26,7 +26,8 @@ import sympy
 from compiler.errors import DyadError
 from compiler.lower.selection_layout import SelectionLevel, selection_levels
 from compiler.lower.state_set_folds import alias_folds, plain_number, unfolded
-from compiler.lower.state_set_variants import Variant, _priority_function, build_variant, forcing, matching
+from compiler.lower.state_set_variants import Variant, _priority_function, build_variant, forcing, matching, \
+    row_positions
 from compiler.model.flat import FlatSystem
 from compiler.runtime import pivoted_columns
 from compiler.structure.differentiate import partial
@@ -69,13 +70,14 @@ def possible_choices(flat: FlatSystem, system: IndexedSystem, levels: list[Selec
         rows = [e for i, e in enumerate(level.rows) if i not in {i for i, _, _ in folds}]
         order = [v for v in level.order if v in candidates and v not in partner.values()]
         folded = dataclasses.replace(level, rows=tuple(rows))
+        positions = row_positions(system, rows)
         fixed, rest = _constant_prefix_choice(system, folded, order, constant)
         fixed, rest = _independent_classes(system, folded, fixed, rest)
         for subset in itertools.combinations(rest, len(rows) - len(fixed)):
             budget[0] -= 1
             if budget[0] < 0:
                 raise TooManyToList
-            if _structurally_regular(system, rows, fixed + list(subset)):
+            if len(matching(system, rows, fixed + list(subset), positions)) == len(rows):   # regular
                 chosen_folded = fixed + list(subset)
                 chosen = unfolded(chosen_folded, folds)
                 taken = set(chosen)
@@ -163,10 +165,6 @@ def _triangular(system: IndexedSystem, rows, columns) -> bool:
         else:
             return False
     return True
-
-
-def _structurally_regular(system: IndexedSystem, rows, columns) -> bool:
-    return len(matching(system, rows, columns)) == len(rows)
 
 
 def with_variants(flat: FlatSystem, analysis: Analysis, root: Variant,

@@ -45,13 +45,16 @@ def dummy_choice(levels: Sequence[Mapping], values: Mapping[str, float]) -> froz
     an output is structurally zero."""
     candidates = set(levels[0]["order"]) if levels else set()
     dummies: list[str] = []
+    given = _selection_entries(values)
     for k, level in enumerate(levels):
         rows = int(level["rows"])
         order = [c for c in level["order"] if c in candidates]
         matrix = np.zeros((rows, len(order)))
-        for i in range(rows):
-            for j, name in enumerate(order):
-                matrix[i, j] = float(values.get(selection_output(k, i, name), 0.0))
+        column = {name: j for j, name in enumerate(order)}
+        for i, name, value in given.get(k, ()):
+            j = column.get(name)
+            if j is not None and i < rows:
+                matrix[i, j] = float(value)
         classes: list[list[int]] = []
         for j, name in enumerate(order):      # priority classes are consecutive runs of `order`
             if j == 0 or level["priority"][name] != level["priority"][order[j - 1]]:
@@ -67,6 +70,20 @@ def dummy_choice(levels: Sequence[Mapping], values: Mapping[str, float]) -> froz
         candidates = {level["next"][c] for c in propagating(chosen, folds_by_name(level, order))
                       if c in level["next"]}
     return frozenset(dummies)
+
+
+def _selection_entries(values: Mapping[str, float]) -> dict[int, list[tuple[int, str, float]]]:
+    """level -> (row, candidate, value) of every selection output among `values` (named by
+    selection_output). Read from the names present, not looked up by every name a level could
+    have: a 32-body chain's first level has 96 rows x 128 candidates, of which 288 occur."""
+    found: dict[int, list[tuple[int, str, float]]] = {}
+    for key, value in values.items():
+        if key.startswith("__select") and key.endswith("]"):
+            level, _, rest = key[len("__select"):].partition("[")
+            row, _, candidate = rest[:-1].partition(",")
+            if level.isdigit() and row.isdigit():
+                found.setdefault(int(level), []).append((int(row), candidate, value))
+    return found
 
 
 def folds_by_name(level: Mapping, order: Sequence[str]) -> dict[str, str]:
