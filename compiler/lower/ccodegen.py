@@ -7,13 +7,15 @@ instead makes IDAS 10-200x slower, and the integrator's own 'jit' option recompi
 construction and took 11 s for a 600-unknown model).
 
 The same library holds the functions of (x, z, p, t) the runtime evaluates at every output point
-(`pointwise_functions`: every output, the Newton step of the algebraic equations), which
+(`pointwise_functions`: the outputs and the polishing's Newton step on the algebraic equations), which
 compiler/runtime/outputs.py and polishing.py otherwise run on the VM. Excavator at -O1 (CPU):
 outputs and polishing at 1201 points 7.4 + 9.8-14.7 ms -> 1.9 + 2.7 ms, bit-identical; the build
 grows from 0.76 s and 112 kB to 1.17 s and 183 kB (the whole library at -O0: 0.44 s, but outputs
 and polishing then take 4.4 + 4.7 ms, most of the gain gone; -O2 runs no faster). With the
-one-function Newton step (polishing.py) in place of the Newton function and the residual:
-polishing 1.9 ms, the build 1.07 s and 175 kB.
+outputs at z polished by a one-function Newton step (compiler/runtime/polishing.py) in place of
+the outputs, the Newton function and the residual, for up to 4 algebraic unknowns: its
+evaluations over a run's 1201 points 2.7 ms (the step and the outputs apart: 3.5 ms), the build
+1.19-1.25 s and 162 kB (1.32-1.42 s and 183 kB before, in the same runs).
 
 `jac_dyad_dae` differentiates with respect to x and z only: its t and p blocks are structurally
 zero. IDAS (and its consistent-initial-condition step) uses only d(ode, alg)/d(x, z); the t and
@@ -90,9 +92,11 @@ def pointwise_functions(model: CompiledModel) -> list[ca.Function]:
     x, z, p, t = model.symbols()
     alg = model.dae(x, z, p, t)[1]
     names = CompiledModel.NATIVE_FUNCTION_NAMES
-    functions = [ca.Function(names["outputs"], [x, z, p, t], [model.outputs(x, z, p, t)])]
     if 0 < z.numel() <= polishing.FUSED_UP_TO:
-        return functions + [polishing.newton_step_function(model, names["newton_step"])]
+        return [polishing.polished_outputs_function(model, None, names["polished_outputs"])]
+    functions = [ca.Function(names["outputs"], [x, z, p, t], [model.outputs(x, z, p, t)])]
+    if z.numel() == 0:
+        return functions
     return functions + [ca.Function(names["algebraic_newton"], [x, z, p, t], [alg, ca.jacobian(alg, z)]),
                         ca.Function(names["algebraic_residual"], [x, z, p, t], [alg])]
 

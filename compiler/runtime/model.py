@@ -42,7 +42,7 @@ class CompiledModel:
     NATIVE_DAE_NAME = "dyad_dae"
     # the per-point functions of (x, z, p, t) in the same library (compiler/lower/ccodegen.py)
     NATIVE_FUNCTION_NAMES = {"outputs": "dyad_outputs", "algebraic_newton": "dyad_alg_newton",
-                             "algebraic_residual": "dyad_alg_residual", "newton_step": "dyad_alg_newton_step"}
+                             "algebraic_residual": "dyad_alg_residual", "polished_outputs": "dyad_polished_outputs"}
 
     def __init__(self, *, name: str, state_names: Sequence[str], algebraic_names: Sequence[str],
                  parameter_names: Sequence[str], parameter_defaults: Sequence[float],

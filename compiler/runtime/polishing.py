@@ -8,11 +8,12 @@ taken only at the points where it would still move z (SETTLED).
 
 Where the algebraic system is small (FUSED_UP_TO unknowns), one step is one function of
 (x, z, p, t) (`newton_step_function`): the residual and its Jacobian, the step solved in closed
-form, the residual at the candidate and the next step's estimate, with the subexpressions of x
-alone computed once for both residuals (excavator: 1032 SX instructions against 751 + 599 for
-the Newton function and the residual apart). With `--codegen c` the model's library holds it
-(compiler/lower/ccodegen.py). Larger systems: the Newton function and the residual, the steps
-solved by numpy's batched LU; large sparse ones point by point (linear_solver.sparse_polish).
+form, whether it is kept and the next step's estimate, the subexpressions of x alone computed
+once for both residuals (excavator: 902 SX instructions against 751 + 599 for the Newton function
+and the residual apart); the run's outputs are evaluated in the same function, at the z of that
+step (`polished_outputs_function`, outputs.signals_at; with `--codegen c` it is in the model's
+library, compiler/lower/ccodegen.py). Larger systems: the Newton function and the residual, the
+steps solved by numpy's batched LU; large sparse ones point by point (linear_solver.sparse_polish).
 """
 from __future__ import annotations
 
@@ -47,55 +48,60 @@ def polish_algebraics(model: CompiledModel, xs: np.ndarray, zs: np.ndarray, p: n
     polished = sparse_polish(model, xs, zs, p, grid, iterations)
     if polished is not None:
         return polished
-    step = _newton_step(model)
+    step = newton_step(model)
     z = np.array(zs, dtype=float)
     times = np.asarray(grid, dtype=float)
     for first, last, p_run in parameter_runs(p, n):
-        z[:, first:last] = _polish_run(step, xs[:, first:last], z[:, first:last], p_run,
-                                       times[first:last], iterations, settled)
+        z[:, first:last] = polish_run(step, xs[:, first:last], z[:, first:last], p_run,
+                                      times[first:last], iterations, settled)
     return z
 
 
-def _polish_run(step, xs, z, p, times, iterations: int, settled: float) -> np.ndarray:
-    """The Newton steps on points that share p, each from the points the one before left
-    unsettled."""
+def polish_run(step, xs, z, p, times, iterations: int = 2, settled: float = SETTLED,
+               first=None) -> np.ndarray:
+    """The Newton steps on points that share p (z is overwritten), each from the points the one
+    before left unsettled. `first`: the first step's (z, kept, moves) where it is evaluated
+    already (outputs.signals_at evaluates it with the outputs)."""
     scale = np.abs(z).max(axis=1, keepdims=True)
     active = np.arange(z.shape[1])
     for iteration in range(iterations):
         sub = slice(None) if iteration == 0 else active
-        candidate, r, r_new, moves = step(xs[:, sub], z[:, sub], p, times[sub])
-        better = np.all(np.isfinite(r_new), axis=0) & (np.abs(r_new).max(axis=0) <= np.abs(r).max(axis=0))
-        z[:, active[better]] = candidate[:, better]
-        unsettled = np.any(np.abs(moves[:, better]) > settled * (np.abs(candidate[:, better]) + scale), axis=0)
-        active = active[better][unsettled]
+        z_next, kept, moves = first if iteration == 0 and first is not None else \
+            step(xs[:, sub], z[:, sub], p, times[sub])
+        z[:, active] = z_next
+        active = active[kept & np.any(np.abs(moves) > settled * (np.abs(z_next) + scale), axis=0)]
         if active.size == 0:
             break
     return z
 
 
-def _newton_step(model: CompiledModel):
-    """step(xs, zs, p, times) -> (candidate z, residual at z, residual at the candidate, estimate
-    of the next step), evaluated over the points at once."""
+def newton_step(model: CompiledModel):
+    """step(xs, zs, p, times) -> (z after one Newton step where it is kept, else as given; kept;
+    the estimate of the next step), evaluated over the points at once."""
     nz = len(model.algebraic_names)
     if nz <= FUSED_UP_TO:
-        fused = evaluator(model, ("newton_step",),
-                          lambda: model.native_function("newton_step") or newton_step_function(model))
-        return fused.evaluate
+        fused = evaluator(model, ("newton_step",), lambda: newton_step_function(model))
+
+        def step(xs, zs, p, times):
+            z_next, kept, moves = fused.evaluate(xs, zs, p, times)
+            return z_next, kept[0] > 0, moves
+        return step
     newton = evaluator(model, ("algebraic_newton",),
                        lambda: model.native_function("algebraic_newton") or model.algebraic_newton())
     residual = evaluator(model, ("algebraic_residual",),
                          lambda: model.native_function("algebraic_residual") or residual_function(model))
 
-    def step(xs, zs, p, times):
+    def solved(xs, zs, p, times):
         r, jac = newton.evaluate(xs, zs, p, times)
         matrices = jac.T.reshape(zs.shape[1], nz, nz).transpose(0, 2, 1)      # column-major per point
         try:
             candidate = zs - _solve(matrices, r)
             (r_new,) = residual.evaluate(xs, candidate, p, times)
-            return candidate, r, r_new, _solve(matrices, np.nan_to_num(r_new))
+            kept = np.all(np.isfinite(r_new), axis=0) & (np.abs(r_new).max(axis=0) <= np.abs(r).max(axis=0))
+            return np.where(kept, candidate, zs), kept, _solve(matrices, np.nan_to_num(r_new))
         except np.linalg.LinAlgError:             # a singular Jacobian: no step anywhere
-            return zs, r, np.full_like(r, np.nan), np.zeros_like(r)
-    return step
+            return zs, np.zeros(zs.shape[1], dtype=bool), np.zeros_like(zs)
+    return solved
 
 
 def _solve(matrices: np.ndarray, rhs: np.ndarray) -> np.ndarray:
@@ -103,16 +109,38 @@ def _solve(matrices: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     return np.linalg.solve(matrices, rhs.T[:, :, None])[:, :, 0].T
 
 
-def newton_step_function(model: CompiledModel, name: str = "alg_newton_step") -> ca.Function:
-    """(x, z, p, t) -> (z - J \\ r, r, r at z - J \\ r, J \\ (r at z - J \\ r)) for r = alg(x, z, p, t)
-    and J = dr/dz: one Newton step, what decides whether it is kept, and the chord estimate of the
-    next (used for small algebraic systems: FUSED_UP_TO)."""
+def _step_expressions(model: CompiledModel):
+    """(symbols x, z, p, t; z after one Newton step on r = alg(x, z, p, t) = 0 where it is kept,
+    else z; whether it is kept: r at the candidate finite and its largest |entry| no larger; the
+    chord estimate of the next step, J \\ r(candidate) with J = dr/dz at z)."""
     x, z, p, t = model.symbols()
     alg = model.dae(x, z, p, t)[1]
     jac = ca.jacobian(alg, z)
     candidate = z - ca.solve(jac, alg)
     alg_there = ca.substitute(alg, z, candidate)        # the terms in x alone stay shared
-    return ca.Function(name, [x, z, p, t], [candidate, alg, alg_there, ca.solve(jac, alg_there)])
+    finite = ca.logic_and(ca.mmin(ca.lt(ca.fabs(alg_there), ca.inf)), ca.mmin(ca.eq(alg, alg)))
+    kept = ca.logic_and(finite, ca.le(ca.mmax(ca.fabs(alg_there)), ca.mmax(ca.fabs(alg))))
+    return (x, z, p, t), ca.if_else(kept, candidate, z), kept, ca.solve(jac, alg_there)
+
+
+def newton_step_function(model: CompiledModel, name: str = "alg_newton_step") -> ca.Function:
+    """(x, z, p, t) -> (z after one kept Newton step, kept, next step's estimate): the step of a
+    small algebraic system (FUSED_UP_TO) in one function."""
+    symbols, z_next, kept, moves = _step_expressions(model)
+    return ca.Function(name, list(symbols), ca.cse([z_next, kept, moves]))
+
+
+def polished_outputs_function(model: CompiledModel, rows, name: str = "outputs_polished") -> ca.Function:
+    """(x, z, p, t) -> (the outputs `rows` (None: all) at z after one kept Newton step, that z,
+    kept, next step's estimate): polishing and outputs in one pass (outputs.signals_at)."""
+    symbols, z_next, kept, moves = _step_expressions(model)
+    x, z, p, t = symbols
+    values = model.outputs(x, z, p, t)
+    if rows is not None:
+        values = values[list(rows)] if len(rows) else ca.SX(0, 1)
+    # common subexpressions of the outputs and the algebraic equations computed once (excavator:
+    # 2855 -> 2282 SX instructions, the same numbers)
+    return ca.Function(name, list(symbols), ca.cse([ca.substitute(values, z, z_next), z_next, kept, moves]))
 
 
 def residual_function(model: CompiledModel) -> ca.Function:

@@ -35,29 +35,29 @@ def native(model: runtime.CompiledModel) -> runtime.CompiledModel:
     return compiled
 
 
-def test_the_library_holds_outputs_and_the_algebraic_newton_step(cache):
+def test_the_library_holds_the_outputs_at_polished_z(cache):
     vm = small_model()
     c = native(vm)
-    for role in ("outputs", "newton_step"):          # two algebraic unknowns: the one-function step
-        assert c.native_function(role) is not None, role
-        assert vm.native_function(role) is None
-    assert c.native_function("algebraic_newton") is None and c.native_function("algebraic_residual") is None
+    # two algebraic unknowns: one function of the Newton step and the outputs at its result
+    assert c.native_function("polished_outputs") is not None and vm.native_function("polished_outputs") is None
+    for role in ("outputs", "algebraic_newton", "algebraic_residual"):
+        assert c.native_function(role) is None, role
     xs, zs, times = points(vm, 3)
     p = vm.parameter_vector()
-    step = polishing.newton_step_function(vm)
+    expected = polishing.polished_outputs_function(vm, None)
     for k in (0, 17, len(times) - 1):
         args = (xs[:, k], zs[:, k], p, times[k])
-        np.testing.assert_allclose(np.asarray(c.native_function("outputs")(*args)),
-                                   np.asarray(vm.outputs(*args)), **ROUND_OFF)
-        for got, expected in zip(c.native_function("newton_step")(*args), step(*args)):
-            np.testing.assert_allclose(np.asarray(got), np.asarray(expected), **ROUND_OFF)
+        for got, value in zip(c.native_function("polished_outputs")(*args), expected(*args)):
+            np.testing.assert_allclose(np.asarray(got), np.asarray(value), **ROUND_OFF)
 
 
-def test_a_larger_algebraic_system_gets_the_newton_function_and_the_residual(monkeypatch):
-    """Above FUSED_UP_TO unknowns the step is solved by numpy, from these two functions."""
+def test_other_algebraic_systems_get_the_outputs_and_the_newton_function_and_residual(monkeypatch):
+    """Above FUSED_UP_TO unknowns the step is solved by numpy from these two functions; without
+    algebraic unknowns there is nothing to polish."""
     names = runtime.CompiledModel.NATIVE_FUNCTION_NAMES
     vm = small_model()
-    assert [f.name() for f in ccodegen.pointwise_functions(vm)] == [names["outputs"], names["newton_step"]]
+    assert [f.name() for f in ccodegen.pointwise_functions(vm)] == [names["polished_outputs"]]
+    assert [f.name() for f in ccodegen.pointwise_functions(small_model(nz=0))] == [names["outputs"]]
     monkeypatch.setattr(polishing, "FUSED_UP_TO", 1)
     functions = ccodegen.pointwise_functions(vm)
     assert [f.name() for f in functions] == [names[r] for r in ("outputs", "algebraic_newton", "algebraic_residual")]
@@ -67,6 +67,8 @@ def test_a_larger_algebraic_system_gets_the_newton_function_and_the_residual(mon
     r_vm, jac_vm = vm.algebraic_newton()(xs[:, 0], zs[:, 0], p, times[0])
     np.testing.assert_allclose(np.asarray(r), np.asarray(r_vm), **ROUND_OFF)
     np.testing.assert_allclose(np.asarray(ca.densify(jac)), np.asarray(ca.densify(jac_vm)), **ROUND_OFF)
+    np.testing.assert_allclose(np.asarray(functions[0](xs[:, 0], zs[:, 0], p, times[0])),
+                               np.asarray(vm.outputs(xs[:, 0], zs[:, 0], p, times[0])), **ROUND_OFF)
 
 
 def test_polished_outputs_in_c_equal_the_vm_ones(cache):
@@ -81,7 +83,10 @@ def test_polished_outputs_in_c_equal_the_vm_ones(cache):
     np.testing.assert_allclose(z_c, z_vm, **ROUND_OFF)
     np.testing.assert_allclose(outputs.signals_at(c, xs, zs, p, times),
                                outputs.signals_at(vm, xs, zs, p, times), **ROUND_OFF)
-    assert ("evaluator", "outputs", "native") in c._derived        # the C function did the work
+    assert ("evaluator", "polished_outputs", "native") in c._derived        # the C function did the work
+    # outputs at z as given: the VM's function (the library holds only those at polished z)
+    np.testing.assert_array_equal(outputs.evaluate_outputs(c, xs, zs, p, times),
+                                  outputs.evaluate_outputs(vm, xs, zs, p, times))
 
 
 @pytest.mark.parametrize("cheaper_in_c", [0.0, 1e9])       # the VM's subset, and rows of C's all
@@ -90,20 +95,21 @@ def test_asked_rows_equal_the_vm_ones_either_way(cache, monkeypatch, cheaper_in_
     vm = small_model()
     c = native(vm)
     xs, zs, times = points(vm, 5)
+    zs = zs * 0.01 + 0.3
     p = np.repeat(vm.parameter_vector().reshape(-1, 1), len(times), axis=1)
     p[0, 100:] *= 1.5                     # two runs of parameters
-    rows = [3, 0, 4]
-    got = outputs.evaluate_outputs(c, xs, zs, p, times, rows)
-    np.testing.assert_allclose(got, outputs.evaluate_outputs(vm, xs, zs, p, times, rows), **ROUND_OFF)
-    assert (("evaluator", "outputs", "native") in c._derived) == (cheaper_in_c > 1)
-    assert outputs.evaluate_outputs(c, xs, zs, p, times, []).shape == (0, len(times))
+    rows = [3, 0, 4]                      # z1 * x1 + t depends on z: polished
+    got = outputs.signals_at(c, xs, zs, p, times, rows)
+    np.testing.assert_allclose(got, outputs.signals_at(vm, xs, zs, p, times, rows), **ROUND_OFF)
+    assert (("evaluator", "polished_outputs", "native") in c._derived) == (cheaper_in_c > 1)
+    assert outputs.signals_at(c, xs, zs, p, times, []).shape == (0, len(times))
 
 
 def test_a_simulation_in_c_reports_the_vm_values(cache):
     vm = lower(systems.pendulum_cartesian(0.9))
     c = native(vm)
     fused = len(c.algebraic_names) <= polishing.FUSED_UP_TO
-    assert c.algebraic_names and c.native_function("newton_step" if fused else "algebraic_newton") is not None
+    assert c.algebraic_names and c.native_function("polished_outputs" if fused else "algebraic_newton") is not None
     a = runtime.simulate(vm, 2.0, points=301, rtol=1e-10, atol=1e-12)
     b = runtime.simulate(c, 2.0, points=301, rtol=1e-10, atol=1e-12)
     # the integrator's Jacobian differs in round-off between C and the VM, so the trajectories

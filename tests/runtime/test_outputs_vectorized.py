@@ -126,12 +126,12 @@ def test_a_second_newton_step_is_taken_only_where_the_first_leaves_z_unsettled(m
     far = np.arange(POINTS) % 3 == 0                  # far off: one step leaves them 1e-8 away
     zs = np.vstack([z0, np.sin(z0) + c * times]) + np.where(far, 1e-4, 1e-9)
     calls = []
-    original = polishing._newton_step
+    original = polishing.newton_step
 
     def counted(model_):
         step = original(model_)
         return lambda xs_, zs_, p_, t_: (calls.append(len(t_)), step(xs_, zs_, p_, t_))[1]
-    monkeypatch.setattr(polishing, "_newton_step", counted)
+    monkeypatch.setattr(polishing, "newton_step", counted)
     got = polish_algebraics(model, xs, zs, p, times)
     assert calls == [POINTS, int(far.sum())]
     expected = np.column_stack([newton_reference(model, xs[:, k], zs[:, k], p, times[k], 2 if far[k] else 1)
