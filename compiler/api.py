@@ -47,7 +47,9 @@ def simulate_compiled(compilation: Compilation | CachedCompilation, stop: float,
     if not hasattr(compilation, "flat"):
         return _simulate_cached(compilation, options, stop, arguments)
     switcher = None
-    if compilation.dynamic and not compilation.model.variants:     # else: the model's own variants
+    # else the model's own variants, or those made from its universal system (runtime/universal.py:
+    # the same in-process, from the cache, in generated code and in sweep workers)
+    if compilation.dynamic and not compilation.model.variants and compilation.model.universal is None:
         from compiler.lower.state_set_variants import Switcher
         switcher = Switcher(compilation.flat, compilation.analysis, compilation.variant,
                             compilation.model)

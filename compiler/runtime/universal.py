@@ -31,14 +31,22 @@ def variant_of(universal: CompiledModel, dummies: frozenset[str], selection: Map
     unknowns = list(universal.algebraic_names)
     states = [v for v in unknowns if v in derivative and v not in dummies and derivative[v] not in dummies]
     state_set = set(states)
-    algebraics = [v for v in unknowns if v not in state_set]
-    x, z = ca.SX.sym("x", len(states)), ca.SX.sym("z", len(algebraics))
+    candidates = [v for v in unknowns if v not in state_set]
+    x = ca.SX.sym("x", len(states))
+    symbols = [ca.SX.sym(f"z{j}") for j in range(len(candidates))]
     p, t = ca.SX.sym("p", len(universal.parameter_names)), ca.SX.sym("t")
     where = {name: x[i] for i, name in enumerate(states)}
-    where.update({name: z[i] for i, name in enumerate(algebraics)})
+    where.update({name: symbols[j] for j, name in enumerate(candidates)})
     u = ca.vertcat(*[where[name] for name in unknowns]) if unknowns else ca.SX(0, 1)
     none = ca.SX(0, 1)
-    alg = universal.dae(none, u, p, t)[1][:int(info["equations"])]
+    residuals = universal.dae(none, u, p, t)[1][:int(info["equations"])]
+    kept, residuals, solved = explicit_unknowns(residuals, symbols)
+    algebraics = [candidates[j] for j in kept]
+    z = ca.vertcat(*[symbols[j] for j in kept]) if kept else ca.SX(0, 1)
+    alg = residuals
+    u = ca.substitute(u, ca.vertcat(*[symbols[j] for j in solved]), ca.vertcat(*solved.values())) \
+        if solved else u
+    where = {name: u[i] for i, name in enumerate(unknowns)}
     ode = ca.vertcat(*[where[derivative[s]] for s in states]) if states else ca.SX(0, 1)
     values = ca.vertcat(universal.outputs(none, u, p, t), ca.SX(1, 1) * 0)
     output_names = list(universal.output_names) + [ZERO]
@@ -61,8 +69,47 @@ def variant_of(universal: CompiledModel, dummies: frozenset[str], selection: Map
         metadata={**{k: v for k, v in universal.metadata.items() if k != UNIVERSAL},
                   DUMMIES: sorted(dummies), SELECTION: dict(selection)})
     levels = monitored_levels(selection, dummies, info.get("stand_ins", ()), output_names, values,
-                              ca.vertcat(u, t))
+                              ca.vertcat(x, z, t))
     return model.replace(state_sets=levels)
+
+
+def explicit_unknowns(residuals: ca.SX, symbols: list) -> tuple[list[int], ca.SX, dict]:
+    """Unknowns that an equation gives explicitly, solved for and substituted: the equation is
+    linear in one of them with a constant coefficient (an alias such as der(x) = vx, mostly) and
+    holds no unknown solved before (so the coefficient is the one after substitution). Returns
+    the unknowns kept (positions in `symbols`), their residuals, and {position: expression in the
+    kept unknowns} of the solved ones. Without this the state sets made from the universal system
+    carry several times the unknowns of a compiled one (an 8-body chain: 82 against 16), and dense
+    Newton steps on them cost the run most of its time."""
+    position = {symbols[j].name(): j for j in range(len(symbols))}
+    solved_names: set[str] = set()
+    order: list[tuple[int, ca.SX]] = []
+    used: set[int] = set()
+    for i in range(residuals.numel()):
+        row = residuals[i]
+        names = [symbol.name() for symbol in ca.symvar(row)]
+        if any(name in solved_names for name in names):
+            continue
+        for name in names:
+            j = position.get(name)
+            if j is None:
+                continue
+            coefficient = ca.jacobian(row, symbols[j])
+            if not coefficient.is_constant() or float(ca.evalf(coefficient)) == 0.0:
+                continue
+            order.append((j, -ca.substitute(row, symbols[j], ca.SX(0)) / float(ca.evalf(coefficient))))
+            solved_names.add(name)
+            used.add(i)
+            break
+    remaining = [residuals[i] for i in range(residuals.numel()) if i not in used]
+    if order:
+        values, remaining = ca.substitute_inplace([symbols[j] for j, _ in order],
+                                                  [value for _, value in order], remaining, False)
+        solved = {j: value for (j, _), value in zip(order, values)}
+    else:
+        solved = {}
+    kept = [j for j in range(len(symbols)) if j not in solved]
+    return kept, (ca.vertcat(*remaining) if remaining else ca.SX(0, 1)), solved
 
 
 def monitored_levels(selection: Mapping, dummies: frozenset[str], stand_in_pairs, output_names: list[str],
