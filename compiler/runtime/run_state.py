@@ -51,7 +51,10 @@ class RunState:
         self.public = options.chosen_signals(list(switcher.public_names) if switcher is not None
                                              else list(model.output_names))
         self.grid = options.grid()
-        self.values = np.full((len(self.public), len(self.grid)), np.nan)
+        # one point's signals contiguous (the .T of a points x signals array), as the vectorized
+        # outputs are computed: storing them is a copy, not a transpose (excavator, C, 1201
+        # points: finish 5.4 -> 4.0 ms)
+        self.values = np.full((len(self.grid), len(self.public)), np.nan).T
         self.counters = {v: 0 for v in COUNTERS.values()}
         self.counters["segments"] = 0
         self.events: list[dict] = []
