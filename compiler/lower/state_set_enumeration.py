@@ -184,9 +184,9 @@ def with_variants(flat: FlatSystem, analysis: Analysis, root: Variant,
         except TooManyToList:
             counted = f"more than {limit}"
         warnings.warn(f"model {flat.name} has {counted} possible state sets, more than the {limit} "
-                      f"compiled with it: generated code and --codegen c carry its first state set "
-                      f"only; the in-process run still builds the ones it reaches when it reaches "
-                      f"them", VariantLimitWarning, stacklevel=2)
+                      f"compiled with it: a run makes the others from its index-1 system when it "
+                      f"reaches them (in-process, from the cache, in generated code and in C alike)",
+                      VariantLimitWarning, stacklevel=2)
         return root
     first = frozenset(root.model.metadata["dummy_derivatives"])
     variants = {}
