@@ -7,9 +7,10 @@ min/max, sign, floor, mod) of the integrated system, sorted into
 - state events: the condition depends on the unknowns; its zero function g (a relation a > b gives
   g = a - b) is watched by IDAS, which locates the crossing and restarts there.
 
-This is what Modelica tools and ModelingToolkit's discontinuity detection do for Dyad; we keep the
-relation itself in the equations (no locking), so between events the model is smooth and at an
-event the restart sees the other branch.
+This is what Modelica tools and ModelingToolkit's discontinuity detection do for Dyad. Relations
+on unknowns are locked between events (relation_locks.py): each keeps the value it had at the last
+event, so IDAS's Newton iterations never see a condition flip, and the restart at an event takes
+the other branch.
 """
 from __future__ import annotations
 
@@ -163,10 +164,19 @@ def _zero_functions(expr: sympy.Expr):
         elif isinstance(node, sympy.Mod):
             found.append((sympy.sin(sympy.pi * node.args[0] / node.args[1]), str(node)))
         for zero, label in found:
-            zero = sympy.expand(zero) if zero.is_polynomial() else zero
+            zero = _canonical(zero)
             if zero.free_symbols and zero not in seen:
                 seen.add(zero)
                 yield node, zero, label
+
+
+def _canonical(zero: sympy.Expr) -> sympy.Expr:
+    return sympy.expand(zero) if zero.is_polynomial() else zero
+
+
+def relation_zero(node: Relational) -> sympy.Expr:
+    """The zero function watched for the relation `node` (a > b: a - b), as find_events writes it."""
+    return _canonical(node.lhs - node.rhs)
 
 
 def _solve_for_time(zero: sympy.Expr, label: str) -> list[TimeEvent]:

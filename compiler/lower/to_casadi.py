@@ -13,6 +13,7 @@ import sympy
 
 from compiler.errors import DyadError, Span
 from compiler.lower.events import EVENT_CLOCK, Events, find_events, lock_timed_conditions
+from compiler.lower.relation_locks import lock_state_relations
 from compiler.model.flat import TIME
 from compiler.model.interpolation import InterpolatedFunction
 from compiler.runtime import CompiledModel
@@ -239,6 +240,7 @@ def lower(reduced: ReducedSystem, events: bool = True) -> CompiledModel:
     model knows none of its time and state events and IDAS steps across every kink (kept to
     measure what event handling buys)."""
     found = find_events(reduced) if events else Events((), ())
+    reduced, locks = lock_state_relations(reduced, found)
     reduced = lock_timed_conditions(reduced, found)
     nx, nz, npar = len(reduced.states), len(reduced.algebraics), len(reduced.parameters)
     if len(reduced.ode) != nx:
@@ -313,7 +315,8 @@ def lower(reduced: ReducedSystem, events: bool = True) -> CompiledModel:
                              for name, b in sorted(reduced.metadata.get("bounds", {}).items())
                              if name in set(output_names)},
                   "units": _declared_units(reduced, output_names),
-                  **({"event_clock": EVENT_CLOCK.name} if found.timed_conditions else {})},
+                  **({"event_clock": EVENT_CLOCK.name} if found.timed_conditions else {}),
+                  **({"relation_locks": [lock.as_metadata() for lock in locks]} if locks else {})},
     )
 
 

@@ -19,11 +19,13 @@ from . import interrupts
 from .checks import BoundWarning, bound_violation, bound_warning, check_divergence, state_scales
 from .crossings import before_failure, first_crossing, locate, next_horizon, predicted_stay, watched_values
 from .errors import SimulationFailed, SimulationInterrupted
-from .initialization import consistent_initialization
+from .event_horizon import event_reach
+from .initialization import InitialPoint, consistent_initialization
 from .model import CompiledModel
 from .options import SimulationOptions
 from .outputs import signals_at
 from .progress import Progress
+from .relations import has_locks, settle_relations
 from .result import Result
 from .run_state import RunState, StateSetSwitcher, switched_factor
 from .segments import first_step, segment_ends, segment_times, with_clock
@@ -51,6 +53,8 @@ def simulate(model: CompiledModel, stop: float | None = None, *, options: Simula
     stats: dict = {"compile_time": model.compile_time}
     began = _time.perf_counter()
     point = consistent_initialization(model, p, options.start)
+    p, settled_z = settle_relations(model, p, point.x, point.z, options.start)
+    point = InitialPoint(point.x, settled_z, point.iterations, point.residual)
     stats.update(init_time=_time.perf_counter() - began, init_iterations=point.iterations,
                  init_residual=point.residual)
     began = _time.perf_counter()
@@ -122,6 +126,7 @@ def _integrate(run: RunState, model: CompiledModel, p: np.ndarray, point, progre
     k = 1                                                # next grid index to fill
     end_index = 0
     restarts_here = 0
+    live_from = None                                     # a call from here evaluates relations live
     while t < options.stop:
         run.t = t
         end = ends[end_index]
@@ -130,6 +135,7 @@ def _integrate(run: RunState, model: CompiledModel, p: np.ndarray, point, progre
             end_index += 1
             continue
         p = with_clock(model, p, t, end)
+        p, z = settle_relations(model, p, x, z, t, live=t == live_from)   # held over the call
         integrator, watch, public_index = run.integrator(model)
         retry = run.retry if run.retry is not None and run.retry[0] == t else None
         run.retry = None
@@ -142,6 +148,7 @@ def _integrate(run: RunState, model: CompiledModel, p: np.ndarray, point, progre
             # a state set that degrades is integrated on, badly, until IDAS fails: one call
             # reaches only a little past where its indicators are predicted to cross (_next_horizon)
             reach = end if not model.state_sets else min(end, t + run.horizon)
+            reach = event_reach(model, run.events, t, reach, options.start, options.stop)   # past crossings: thrown away
             if end - reach <= 1e-9 * (end - t):
                 reach = end
             checks = [] if watch is None else list(np.linspace(t, reach, CHECKS_PER_SEGMENT + 1)[1:])
@@ -155,6 +162,9 @@ def _integrate(run: RunState, model: CompiledModel, p: np.ndarray, point, progre
             # initial-condition search would make the run depend on the first output time
             segment = integrator.run(t, times, x, z, p, consistent=True, step0=step0, xdot=xdot)
         except SimulationFailed as failure:
+            if live_from != t and has_locks(model):
+                live_from = t             # the locked branch failed past a crossing: once more live
+                continue
             # a bound crossing before the failure shows in the first retry; a degrading state set
             # may need a few, each ending nearer the failure (switches are proposed there)
             again = t in run.forced_ends and (not model.state_sets or len(run.forced_ends) > MAX_RETRIES)
