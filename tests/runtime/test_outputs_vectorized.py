@@ -139,16 +139,22 @@ def test_a_second_newton_step_is_taken_only_where_the_first_leaves_z_unsettled(m
     np.testing.assert_allclose(got, expected, rtol=1e-14, atol=1e-300)
 
 
-def test_signals_that_do_not_depend_on_z_are_not_polished_and_the_others_are():
+@pytest.mark.parametrize("fused_up_to", [4, 0])        # outputs and first step in one pass, or apart
+def test_signals_that_do_not_depend_on_z_are_not_polished_and_the_others_are(monkeypatch, fused_up_to):
+    monkeypatch.setattr(polishing, "FUSED_UP_TO", fused_up_to)
     model = small_model()
     xs, zs, times = points(model, 4)
     p = model.parameter_vector()
+    # half of them near the solution (one step settles them), the others far off
+    zs[:, ::2] = polish_algebraics(model, xs[:, ::2], zs[:, ::2], p, times[::2], 6) + 1e-9
     assert output_rows_function(model, [0, 1, 4, 5])[1] is False
     assert output_rows_function(model, [2])[1] is True
     plain = signals_at(model, xs, zs, p, times, [0, 1, 4, 5])
     np.testing.assert_array_equal(plain, evaluate_outputs(model, xs, zs, p, times, [0, 1, 4, 5]))
-    polished = signals_at(model, xs, zs, p, times, [2])
-    np.testing.assert_array_equal(polished, polish_algebraics(model, xs, zs, p, times)[[0]])
+    polished = signals_at(model, xs, zs, p, times, [2, 3])
+    z = polish_algebraics(model, xs, zs, p, times)
+    np.testing.assert_array_equal(polished, evaluate_outputs(model, xs, z, p, times, [2, 3]))
+    np.testing.assert_array_equal(polished[0], z[0])
 
 
 def test_sparse_outputs_are_scattered_into_dense_rows():
