@@ -54,7 +54,7 @@ def diagnose(error: SimulationError, compilation, parameter_values: Mapping[str,
         return error
     times, env = points
     states = set(compilation.reduced.states)
-    found = _worst(_candidates(compilation.flat, states), env, times)
+    found = _worst(_candidates(compilation.flat, states, _solved_for(compilation.reduced)), env, times)
     if found is not None:
         candidate, value, where = found
         words, hint, span = _words(candidate, value, where), _HINTS[candidate.kind], candidate.span
@@ -164,13 +164,15 @@ def _run_towards(model, parameter_values: Mapping[str, float], start: float, t_f
 
 # ------------------------------------------------------------------------ what can leave its domain
 
-def _candidates(flat, states: set[str]) -> list[_Candidate]:
+def _candidates(flat, states: set[str], solved_for: dict[int, set[str]]) -> list[_Candidate]:
     found: list[_Candidate] = []
     unknowns = {v.name for v in flat.variables} - states
     for equation in flat.equations:
         span = getattr(equation.origin, "span", None)
         path = getattr(equation.origin, "path", "")
-        found.extend(_coefficients(equation.residual, unknowns, span, path))
+        pivots = {name for name in solved_for.get(id(equation.origin), ())
+                  if name.startswith("der(") or name in unknowns}
+        found.extend(_coefficients(equation.residual, pivots, span, path))
         for node in _unguarded(equation.residual):
             if len(found) >= MAX_CANDIDATES:
                 return found
@@ -178,6 +180,27 @@ def _candidates(flat, states: set[str]) -> list[_Candidate]:
             if candidate is not None:
                 found.append(candidate)
     return found
+
+
+def _solved_for(reduced) -> dict[int, set[str]]:
+    """The unknowns each flat equation (by the identity of its origin) is solved for alone, where a
+    solve divides by the equation's factor of that unknown: the target of an assignment made from it
+    (target = rest / factor), or the one algebraic unknown of an algebraic residual that has no
+    other (IDAS's Newton divides by its derivative). An unknown of a block of several (a mass
+    matrix, an algebraic loop) is found by factorizing the block: its entries are no pivots, and an
+    off-diagonal one passing through 0 makes nothing singular (Andrews' squeezer, failing at rtol
+    1e-11 before 6a29c6e, was blamed on `e*lambda[3]*sin(Phi + delta) - ...`, the derivative of a
+    mass-matrix row with respect to the angle delta, which the closure conditions determine)."""
+    solved: dict[int, set[str]] = {}
+    for assignment in reduced.assignments:
+        if assignment.origin is not None:
+            solved.setdefault(id(assignment.origin), set()).add(assignment.target)
+    algebraics = set(reduced.algebraics)
+    for residual, origin in zip(reduced.alg, reduced.alg_origins):
+        alone = [s.name for s in residual.free_symbols if s.name in algebraics]
+        if origin is not None and len(alone) == 1:
+            solved.setdefault(id(origin), set()).add(alone[0])
+    return solved
 
 
 def _unguarded(expr: sympy.Expr):
@@ -191,15 +214,16 @@ def _unguarded(expr: sympy.Expr):
             stack.extend(node.args)
 
 
-def _coefficients(residual: sympy.Expr, unknowns: set[str], span: Span | None,
+def _coefficients(residual: sympy.Expr, pivots: set[str], span: Span | None,
                   path: str) -> list[_Candidate]:
-    """The factor of each derivative in an equation linear in it: where it reaches 0 the
-    derivative is no longer determined (a mass that vanishes); likewise the derivative of the
-    equation with respect to an algebraic unknown in it (z^2 = 1 - time at t = 1)."""
+    """The factor of each derivative the equation is solved for (`pivots`, _solved_for), in an
+    equation linear in it: where it reaches 0 the derivative is no longer determined (a mass that
+    vanishes); likewise the derivative of the equation with respect to an algebraic unknown it is
+    solved for (z^2 = 1 - time at t = 1)."""
     found = []
     for symbol in sorted(residual.free_symbols, key=lambda s: s.name):
         derivative = symbol.name.startswith("der(")
-        if not derivative and symbol.name not in unknowns:
+        if symbol.name not in pivots:
             continue
         factor = sympy.diff(residual, symbol)
         if factor.is_number or any(s.name.startswith("der(") for s in factor.free_symbols):

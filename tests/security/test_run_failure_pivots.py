@@ -1,0 +1,76 @@
+"""A failed run is blamed on a vanishing factor only where the solve divides by it: the factor of
+the unknown an equation is solved for alone (an assignment, a one-unknown algebraic residual).
+An off-diagonal entry of a mass matrix that passes through 0 makes nothing singular; naming it
+sent the reader of Andrews' squeezer's failure at rtol 1e-11 after the wrong equation."""
+from __future__ import annotations
+
+import math
+import re
+
+import pytest
+
+from compiler import api
+from compiler.errors import DyadError, SimulationError
+from compiler.model.run_checks import run_parameter_values
+from compiler.model.run_failures import _candidates, _solved_for, diagnose
+
+# two coupled bodies: the mass matrix [[m1, c cos(th)], [c cos(th), m2]] stays regular
+# (m1 m2 > c^2) while its off-diagonal entry passes through 0 at th = pi / 2
+COUPLED = """component Coupled
+  parameter m1::Real = 2.0
+  parameter m2::Real = 1.0
+  parameter c::Real = 0.5
+  parameter w::Real = 1.0
+  variable th::Real(initial = 0.0)
+  variable x::Real(initial = 1.0)
+  variable v::Real(initial = 0.0)
+  variable y::Real(initial = 0.0)
+  variable u::Real(initial = 0.0)
+relations
+  der(th) = w
+  der(x) = v
+  der(y) = u
+  MASS * der(v) + c * cos(th) * der(u) = -x
+  c * cos(th) * der(v) + m2 * der(u) = -y
+end
+"""
+
+
+def compiled(tmp_path, mass: str = "m1"):
+    path = tmp_path / "Coupled.dyad"
+    path.write_text(COUPLED.replace("MASS", mass), encoding="utf-8")
+    return api.compile(str(path))
+
+
+def coefficient_operands(compilation) -> list[str]:
+    candidates = _candidates(compilation.flat, set(compilation.reduced.states),
+                             _solved_for(compilation.reduced))
+    return sorted(str(c.operand) for c in candidates if c.kind in ("coefficient", "jacobian"))
+
+
+def test_an_off_diagonal_mass_entry_is_no_candidate_a_pivot_is(tmp_path):
+    # the equations are solved for der(v) and der(u) (one torn, one residual alone): their
+    # factors m1 and m2 are pivots, c * cos(th) is not
+    assert coefficient_operands(compiled(tmp_path)) == ["m1", "m2"]
+    assert coefficient_operands(compiled(tmp_path, "(m1 - time)")) == ["m1 - time", "m2"]
+
+
+def test_a_failure_where_the_off_diagonal_entry_reaches_zero_keeps_the_solvers_words(tmp_path):
+    # at the parent commit: "the factor `c*cos(th)` of `der(u)` in this equation reaches 0, so
+    # nothing determines der(u) any more"
+    compilation = compiled(tmp_path)
+    t_fail = math.pi / 2 - 1e-4          # cos(th) = 1e-4 and falling
+    error = SimulationError(f"simulation of Coupled failed at t = {t_fail}: IDA_CONV_FAIL",
+                            t_fail, "IDA_CONV_FAIL")
+    assert diagnose(error, compilation, run_parameter_values(compilation, None), 0.0) is error
+
+
+def test_a_vanishing_pivot_is_still_named(tmp_path):
+    # uncoupled (c = 0), the equation solved for der(v) divides by m1 - time, 0 at t = 2
+    compiled(tmp_path, "(m1 - time)")
+    with pytest.raises(DyadError) as caught:
+        api.simulate(str(tmp_path / "Coupled.dyad"), 3.0, params={"c": 0.0})
+    message = caught.value.format()
+    assert re.match(rf"{re.escape(str(tmp_path / 'Coupled.dyad'))}:15:3: error: simulation of Coupled "
+                    r"failed at t = (?:1\.99\d+|2): the factor `m1 - time` of `der\(v\)` in this "
+                    r"equation reaches 0", message), message
