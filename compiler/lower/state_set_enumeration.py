@@ -173,13 +173,19 @@ def with_variants(flat: FlatSystem, analysis: Analysis, root: Variant,
     unchanged, with a VariantLimitWarning, when there are more than `limit`."""
     system = analysis.system
     levels = selection_levels(system, _priority_function(analysis))
+    walk = possible_choices(flat, system, levels)
+    choices: list | None = []
     try:
-        choices = list(itertools.islice(possible_choices(flat, system, levels), limit + 1))
+        choices.extend(itertools.islice(walk, limit + 1))
     except TooManyToList:
         choices = None
     if choices is None or len(choices) > limit:
         try:
-            count = sum(1 for _ in itertools.islice(possible_choices(flat, system, levels), _COUNT_LIMIT + 1))
+            if choices is None:
+                raise TooManyToList
+            # counted by going on with the same walk (walking again from the start, as before,
+            # looked at the first choices' subsets twice: 0.1 s at a 32-body chain)
+            count = len(choices) + sum(1 for _ in itertools.islice(walk, _COUNT_LIMIT + 1 - len(choices)))
             counted = f"more than {_COUNT_LIMIT:,}" if count > _COUNT_LIMIT else f"{count:,}"
         except TooManyToList:
             counted = f"more than {limit}"
