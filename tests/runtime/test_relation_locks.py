@@ -164,7 +164,8 @@ class _WithoutEvents:
 def test_a_call_reaches_twice_the_time_since_the_last_event():
     at = [{"time": 1.0, "event": "a"}]
     assert event_reach(_WithoutEvents, at, 1.5, 10.0, 0.0, 10.0) == 10.0
-    assert event_reach(_WithEvents, [], 0.0, 10.0, 0.0, 10.0) == pytest.approx(0.1)
+    assert event_reach(_WithEvents, [], 0.0, 10.0, 0.0, 10.0) == pytest.approx(0.5)
+    assert event_reach(_WithEvents, [], 0.5, 10.0, 0.0, 10.0) == pytest.approx(1.5)
     assert event_reach(_WithEvents, at, 1.5, 10.0, 0.0, 10.0) == pytest.approx(2.5)
     assert event_reach(_WithEvents, at, 1.0, 10.0, 0.0, 10.0) == pytest.approx(1.001)
     assert event_reach(_WithEvents, at, 6.0, 10.0, 0.0, 10.0) == 10.0
