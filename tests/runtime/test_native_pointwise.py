@@ -89,6 +89,21 @@ def test_polished_outputs_in_c_equal_the_vm_ones(cache):
                                   outputs.evaluate_outputs(vm, xs, zs, p, times))
 
 
+def test_rows_that_do_not_depend_on_z_may_come_from_the_outputs_at_polished_z(cache, monkeypatch):
+    monkeypatch.setattr(outputs, "CHEAPER_IN_C", 1e9)       # C whenever it has a function for them
+    vm = small_model()
+    c = native(vm)
+    xs, zs, times = points(vm, 7)
+    p = vm.parameter_vector()
+    free = [0, 1, 4, 5]                   # x0, x0 * x1, exp(-a t), 2.5
+    np.testing.assert_allclose(outputs.evaluate_outputs(c, xs, zs, p, times, free),
+                               outputs.evaluate_outputs(vm, xs, zs, p, times, free), **ROUND_OFF)
+    assert ("evaluator", "polished_outputs", "native") in c._derived
+    with_z = [2, 3]                       # at z as given: only the VM has them
+    np.testing.assert_array_equal(outputs.evaluate_outputs(c, xs, zs, p, times, with_z),
+                                  outputs.evaluate_outputs(vm, xs, zs, p, times, with_z))
+
+
 @pytest.mark.parametrize("cheaper_in_c", [0.0, 1e9])       # the VM's subset, and rows of C's all
 def test_asked_rows_equal_the_vm_ones_either_way(cache, monkeypatch, cheaper_in_c):
     monkeypatch.setattr(outputs, "CHEAPER_IN_C", cheaper_in_c)
