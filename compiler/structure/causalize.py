@@ -69,6 +69,12 @@ class LinearSolver:
             return None
         if coefficient.has(sympy.Piecewise, sympy.Heaviside, sympy.DiracDelta):
             return None
+        # y = x + ifelse(y > 0.5, 1, 0): the condition's derivative is 0, but solving by putting
+        # y = 0 in the rest would read the condition at y = 0 (it gave y = x)
+        conditions = [pair.cond for piecewise in self.system.equations[e].atoms(sympy.Piecewise)
+                      for pair in piecewise.args]
+        if any(sym in free_symbols(condition) for condition in conditions):
+            return None
         return coefficient
 
 

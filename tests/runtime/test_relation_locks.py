@@ -169,3 +169,21 @@ def test_a_call_reaches_twice_the_time_since_the_last_event():
     assert event_reach(_WithEvents, at, 1.5, 10.0, 0.0, 10.0) == pytest.approx(2.5)
     assert event_reach(_WithEvents, at, 1.0, 10.0, 0.0, 10.0) == pytest.approx(1.001)
     assert event_reach(_WithEvents, at, 6.0, 10.0, 0.0, 10.0) == 10.0
+
+
+def test_an_unknown_read_by_its_own_equations_condition_jumps_where_the_condition_flips(tmp_path):
+    # y = x + ifelse(y > 0.5, 1, 0) was solved for y by reading the rest at y = 0, condition
+    # included: y = x for ever. Kept implicit, y follows x until y = 0.5 (t = 0.3), where the
+    # locked relation flips and y jumps to x + 1
+    spec = model_file(tmp_path, "Implicit", """
+  variable x::Real
+  variable y::Real
+relations
+  initial x = 0.2
+  der(x) = 1
+  y = x + ifelse(y > 0.5, 1.0, 0.0)""")
+    result = api.simulate(spec, 1.0, rtol=1e-8, atol=1e-10, points=11)
+    (event,) = result.events
+    assert event["time"] == pytest.approx(0.3, abs=1e-9)
+    after = result.time > 0.3 + 1e-9
+    np.testing.assert_allclose(result["y"], result["x"] + np.where(after, 1.0, 0.0), atol=1e-9)
