@@ -3,7 +3,10 @@
 compiled come from an operation leaving its domain: a divisor, or the argument of a square root
 or logarithm, reaching or crossing zero; asin/acos beyond +-1; the factor of a derivative (a
 mass) or the derivative of an algebraic equation with respect to its unknown (z^2 = 1 - time)
-reaching zero; else a variable blowing up in finite time (der(x) = x^2). This module looks for one.
+reaching zero, where the solve divides by it (the unknown the equation is solved for alone: an
+off-diagonal mass-matrix entry through 0 is no culprit); the equations IDAS solves together losing
+rank (singular_blocks.py: a mass matrix that degenerates); else a variable blowing up in finite
+time (der(x) = x^2). This module looks for one.
 
 Where the run was: the model is run again from the start to just before the failure time, with
 output times crowding towards it (at most two such runs; IDAS fills the failure's partial result
@@ -24,6 +27,7 @@ import sympy
 
 from compiler.errors import Note, SimulationError, Span
 from compiler.model.flat import TIME
+from compiler.model.singular_blocks import smallest_pivots
 
 # A value that must stay away from 0 (a divisor, a sqrt/log argument, a factor) counts as
 # reaching it when it shrank to NEAR_SIZE of its largest size along the run and a straight line
@@ -59,10 +63,11 @@ def diagnose(error: SimulationError, compilation, parameter_values: Mapping[str,
         candidate, value, where = found
         words, hint, span = _words(candidate, value, where), _HINTS[candidate.kind], candidate.span
     else:
-        blowing_up = _blow_up(compilation.flat, env, times)
-        if blowing_up is None:
+        explanation = _singular_block(compilation, parameter_values, env, times) or \
+            _blow_up(compilation.flat, env, times)
+        if explanation is None:
             return error
-        words, hint, span = blowing_up
+        words, hint, span = explanation
     t = error.time_reached if error.time_reached is not None else float(times[-1])
     explained = SimulationError(f"simulation of {compilation.model.name} failed at t = {t:.10g}: {words}",
                                 error.time_reached, words, hint=hint)
@@ -255,6 +260,33 @@ def _blow_up(flat, env: dict[str, np.ndarray], times: np.ndarray) -> tuple[str, 
     return words, ("a quantity that grows faster than linearly in itself (der(x) = x^2) reaches "
                    "infinity in finite time; check the signs and the powers in its equations"), \
         getattr(variable.origin, "span", None)
+
+
+def _singular_block(compilation, parameter_values: Mapping[str, float], env: dict[str, np.ndarray],
+                    times: np.ndarray) -> tuple[str, str, Span | None] | None:
+    """(words, hint, equation) where the equations IDAS solves together lose rank towards the
+    failure: the smallest singular value of their Jacobian (singular_blocks.py) reaching 0 as a
+    divisor does."""
+    trend = smallest_pivots(compilation.model, parameter_values, env, times)
+    if trend is None:
+        return None
+    solved = np.isfinite(trend.smallest)
+    if solved.sum() < 3:
+        return None
+    series, at = trend.smallest[solved], times[solved]
+    score, k = _edge("divisor", at, series)
+    if score is None:
+        return None
+    origins = compilation.reduced.alg_origins
+    origin = origins[trend.rows[0]] if trend.rows[0] < len(origins) else None
+    names = ", ".join(trend.unknowns[:3]) + (", ..." if len(trend.unknowns) > 3 else "")
+    words = (f"the equations solved together for {names} become singular: the smallest singular value "
+             f"of their Jacobian reaches 0 ({series[k]:.4g} at t = {at[k]:.6g}, "
+             f"{series[k] / np.max(series):.3g} of its largest along the run)")
+    hint = ("equations solved together (a mass matrix, the constraints of a mechanism) stop "
+            "determining their unknowns where their Jacobian loses rank: a mass matrix that "
+            "degenerates, a mechanism at a dead centre; check the parameters and the geometry there")
+    return words, hint, getattr(origin, "span", None)
 
 
 def _restricted(node, span: Span | None, path: str) -> _Candidate | None:

@@ -74,3 +74,21 @@ def test_a_vanishing_pivot_is_still_named(tmp_path):
     assert re.match(rf"{re.escape(str(tmp_path / 'Coupled.dyad'))}:15:3: error: simulation of Coupled "
                     r"failed at t = (?:1\.99\d+|2): the factor `m1 - time` of `der\(v\)` in this "
                     r"equation reaches 0", message), message
+
+
+def test_a_mass_matrix_that_degenerates_is_named_by_its_vanishing_pivot(tmp_path):
+    # coupled (c = 0.5), the mass matrix [[m1 - time, c cos(th)], [c cos(th), m2]] is singular
+    # where (m1 - time) m2 = c^2 cos(th)^2, before m1 - time itself reaches 0: the pivot that
+    # vanishes is the Schur complement m2 - c^2 cos^2 / (m1 - time), in no flat equation
+    compiled(tmp_path, "(m1 - time)")
+    with pytest.raises(DyadError) as caught:
+        api.simulate(str(tmp_path / "Coupled.dyad"), 3.0)
+    lo, hi = 1.5, 2.0                   # bisection on (2 - t) - 0.25 cos(t)^2
+    for _ in range(60):
+        middle = 0.5 * (lo + hi)
+        lo, hi = (middle, hi) if (2 - middle) - 0.25 * math.cos(middle) ** 2 > 0 else (lo, middle)
+    assert caught.value.time_reached == pytest.approx(lo, abs=1e-3)
+    message = caught.value.format()
+    assert "the equations solved together for der(u) become singular: the smallest singular value " \
+           "of their Jacobian reaches 0" in message, message
+    assert "IDA_" in message.split("note: the solver reported:")[1]
