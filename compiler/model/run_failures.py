@@ -18,7 +18,6 @@ is near its edge, the solver's words stand.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from typing import Mapping
 
@@ -26,14 +25,10 @@ import numpy as np
 import sympy
 
 from compiler.errors import Note, SimulationError, Span
+from compiler.model.domain_edges import domain_edge
 from compiler.model.flat import TIME
-from compiler.model.singular_blocks import smallest_pivots
+from compiler.model.singular_blocks import singular_block
 
-# A value that must stay away from 0 (a divisor, a sqrt/log argument, a factor) counts as
-# reaching it when it shrank to NEAR_SIZE of its largest size along the run and a straight line
-# through its last two points reaches 0 within NEAR_EDGE of the time run so far.
-NEAR_EDGE = 1e-2
-NEAR_SIZE = 0.1
 # A variable this many times its median size along the run, still growing, is blowing up.
 BLOW_UP = 1e3
 # Candidates evaluated per failure at most (the largest models have thousands of equations).
@@ -63,7 +58,7 @@ def diagnose(error: SimulationError, compilation, parameter_values: Mapping[str,
         candidate, value, where = found
         words, hint, span = _words(candidate, value, where), _HINTS[candidate.kind], candidate.span
     else:
-        explanation = _singular_block(compilation, parameter_values, env, times) or \
+        explanation = singular_block(compilation, parameter_values, env, times) or \
             _blow_up(compilation.flat, env, times)
         if explanation is None:
             return error
@@ -262,33 +257,6 @@ def _blow_up(flat, env: dict[str, np.ndarray], times: np.ndarray) -> tuple[str, 
         getattr(variable.origin, "span", None)
 
 
-def _singular_block(compilation, parameter_values: Mapping[str, float], env: dict[str, np.ndarray],
-                    times: np.ndarray) -> tuple[str, str, Span | None] | None:
-    """(words, hint, equation) where the equations IDAS solves together lose rank towards the
-    failure: the smallest singular value of their Jacobian (singular_blocks.py) reaching 0 as a
-    divisor does."""
-    trend = smallest_pivots(compilation.model, parameter_values, env, times)
-    if trend is None:
-        return None
-    solved = np.isfinite(trend.smallest)
-    if solved.sum() < 3:
-        return None
-    series, at = trend.smallest[solved], times[solved]
-    score, k = _edge("divisor", at, series)
-    if score is None:
-        return None
-    origins = compilation.reduced.alg_origins
-    origin = origins[trend.rows[0]] if trend.rows[0] < len(origins) else None
-    names = ", ".join(trend.unknowns[:3]) + (", ..." if len(trend.unknowns) > 3 else "")
-    words = (f"the equations solved together for {names} become singular: the smallest singular value "
-             f"of their Jacobian reaches 0 ({series[k]:.4g} at t = {at[k]:.6g}, "
-             f"{series[k] / np.max(series):.3g} of its largest along the run)")
-    hint = ("equations solved together (a mass matrix, the constraints of a mechanism) stop "
-            "determining their unknowns where their Jacobian loses rank: a mass matrix that "
-            "degenerates, a mechanism at a dead centre; check the parameters and the geometry there")
-    return words, hint, getattr(origin, "span", None)
-
-
 def _restricted(node, span: Span | None, path: str) -> _Candidate | None:
     if isinstance(node, sympy.Pow) and node.exp.is_number:
         if node.exp.is_negative and not node.base.is_number:
@@ -318,41 +286,9 @@ def _worst(candidates: list[_Candidate], env: dict[str, np.ndarray], times: np.n
                                          times.shape)
         except Exception:           # noqa: BLE001 - an operand numpy cannot evaluate is no culprit
             continue
-        score, k = _edge(candidate.kind, times, series)
+        score, k = domain_edge(candidate.kind, times, series)
         if score is not None and (best is None or score < best[0]):
             best = (score, candidate, float(series[k]), f"at t = {times[k]:.6g}")
     if best is None:
         return None
     return best[1], best[2], best[3]
-
-
-def _edge(kind: str, times: np.ndarray, series: np.ndarray) -> tuple[float | None, int]:
-    """How soon `series` leaves its domain: negative when it already has (at index k), else the
-    time its last trend needs to reach 0 as a fraction of the span run; None when it stays well
-    inside."""
-    if not np.isfinite(series).all():
-        k = int(np.argmax(~np.isfinite(series)))
-        return -2.0 + k / len(series), k
-    outside = np.zeros(len(series), dtype=bool)
-    if kind == "asin":
-        outside = np.abs(series) > 1
-    elif kind in ("sqrt", "log"):
-        outside = (series < 0) | ((series == 0) & (kind == "log"))
-    elif kind in ("divisor", "coefficient"):
-        outside = series == 0
-    if outside.any():
-        k = int(np.argmax(outside))
-        return -1.0 + k / len(series), k
-    if kind == "asin" or len(series) < 2:
-        return None, 0
-    k = len(series) - 1
-    size = float(np.max(np.abs(series)))
-    last, before = float(series[k]), float(series[k - 1])
-    step = times[k] - times[k - 1]
-    if size == 0 or step <= 0 or abs(last) >= abs(before) or abs(last) > NEAR_SIZE * size:
-        return None, 0
-    # a straight line through the last two points: where it reaches 0, after the span run so far
-    reach = abs(last) * step / abs(last - before)
-    run = times[k] - times[0]
-    relative = reach / run if run > 0 else math.inf
-    return (relative, k) if relative < NEAR_EDGE else (None, 0)

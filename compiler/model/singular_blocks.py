@@ -16,7 +16,37 @@ from typing import Mapping
 import casadi as ca
 import numpy as np
 
+from compiler.errors import Span
+from compiler.model.domain_edges import domain_edge
+
 NEWTON_STEPS = 8
+
+
+def singular_block(compilation, parameter_values: Mapping[str, float], env: dict[str, np.ndarray],
+                    times: np.ndarray) -> tuple[str, str, Span | None] | None:
+    """(words, hint, equation) where the equations IDAS solves together lose rank towards the
+    failure: the smallest singular value of their Jacobian reaching 0 as a divisor does; None
+    where it does not."""
+    trend = smallest_pivots(compilation.model, parameter_values, env, times)
+    if trend is None:
+        return None
+    solved = np.isfinite(trend.smallest)
+    if solved.sum() < 3:
+        return None
+    series, at = trend.smallest[solved], times[solved]
+    score, k = domain_edge("divisor", at, series)
+    if score is None:
+        return None
+    origins = compilation.reduced.alg_origins
+    origin = origins[trend.rows[0]] if trend.rows[0] < len(origins) else None
+    names = ", ".join(trend.unknowns[:3]) + (", ..." if len(trend.unknowns) > 3 else "")
+    words = (f"the equations solved together for {names} become singular: the smallest singular value "
+             f"of their Jacobian reaches 0 ({series[k]:.4g} at t = {at[k]:.6g}, "
+             f"{series[k] / np.max(series):.3g} of its largest along the run)")
+    hint = ("equations solved together (a mass matrix, the constraints of a mechanism) stop "
+            "determining their unknowns where their Jacobian loses rank: a mass matrix that "
+            "degenerates, a mechanism at a dead centre; check the parameters and the geometry there")
+    return words, hint, getattr(origin, "span", None)
 
 
 @dataclass(frozen=True)
