@@ -26,8 +26,8 @@ import sympy
 from compiler.errors import DyadError
 from compiler.lower.selection_layout import SelectionLevel, selection_levels
 from compiler.lower.state_set_folds import alias_folds, plain_number, unfolded
-from compiler.lower.state_set_variants import Variant, _priority_function, build_variant, forcing, matching, \
-    row_positions
+from compiler.lower.regular_subsets import regular_subsets
+from compiler.lower.state_set_variants import Variant, _priority_function, build_variant, forcing, row_positions
 from compiler.model.flat import FlatSystem
 from compiler.runtime import pivoted_columns
 from compiler.structure.differentiate import partial
@@ -58,6 +58,12 @@ def possible_choices(flat: FlatSystem, system: IndexedSystem, levels: list[Selec
     subsets."""
     constant = _constant_entries(flat, system)
     budget = [tries]
+
+    def spend(looked_at: int) -> None:
+        budget[0] -= looked_at
+        if budget[0] < 0:
+            raise TooManyToList
+
     folds_of = [alias_folds(system, level.rows, level.order, level.priority.get) for level in levels]
 
     def walk(k: int, candidates: set[int], dummies: tuple[int, ...]):
@@ -70,20 +76,14 @@ def possible_choices(flat: FlatSystem, system: IndexedSystem, levels: list[Selec
         rows = [e for i, e in enumerate(level.rows) if i not in {i for i, _, _ in folds}]
         order = [v for v in level.order if v in candidates and v not in partner.values()]
         folded = dataclasses.replace(level, rows=tuple(rows))
-        positions = row_positions(system, rows)
         fixed, rest = _constant_prefix_choice(system, folded, order, constant)
         fixed, rest = _independent_classes(system, folded, fixed, rest)
-        for subset in itertools.combinations(rest, len(rows) - len(fixed)):
-            budget[0] -= 1
-            if budget[0] < 0:
-                raise TooManyToList
-            if len(matching(system, rows, fixed + list(subset), positions)) == len(rows):   # regular
-                chosen_folded = fixed + list(subset)
-                chosen = unfolded(chosen_folded, folds)
-                taken = set(chosen)
-                following = {level.next[v] for v in chosen if v in level.next and
-                             (v not in partner or partner[v] in taken)}
-                yield from walk(k + 1, following, dummies + tuple(chosen))
+        for subset in regular_subsets(row_positions(system, rows), fixed, rest, len(rows) - len(fixed), spend):
+            chosen = unfolded(fixed + list(subset), folds)
+            taken = set(chosen)
+            following = {level.next[v] for v in chosen if v in level.next and
+                         (v not in partner or partner[v] in taken)}
+            yield from walk(k + 1, following, dummies + tuple(chosen))
     if levels:
         yield from walk(0, set(levels[0].order), ())
 
