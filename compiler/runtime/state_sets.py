@@ -69,10 +69,10 @@ def _pivoted(matrix: np.ndarray, classes, n_rows: int, threshold: float) -> list
             columns = matrix[:, remaining]
             residual = columns - basis @ (basis.T @ columns) if basis.shape[1] else columns
             norms = np.sqrt(np.einsum("ij,ij->j", residual, residual))
-            k = int(np.argmax(norms))
+            k = int(norms.argmax())
             if not norms[k] > threshold:
                 break
-            basis = np.column_stack([basis, residual[:, k] / norms[k]])
+            basis = np.concatenate([basis, (residual[:, k] / norms[k])[:, None]], axis=1)
             chosen.append(remaining.pop(k))
         if len(chosen) == n_rows:
             break
