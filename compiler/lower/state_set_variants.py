@@ -33,7 +33,7 @@ from compiler.structure.reduced import Assignment, ReducedSystem
 
 
 # the output every structurally zero entry of a monitored level's Jacobian reads (at chain N = 32,
-# 1,920 of its 2,048 entries: each its own output before, a third of a variant's lowering)
+# 1,920 of its 2,048 entries, each its own output before: 2,780 -> 861 outputs per state set)
 PIVOT_ZERO = "__pivot_zero"
 
 
