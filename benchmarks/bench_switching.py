@@ -129,19 +129,23 @@ def render(data: dict, repeats: int) -> str:
     return "\n".join(lines)
 
 
-def main(argv: list[str]) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=5)
-    parser.add_argument("--doc", default=str(ROOT / "docs" / "numerics.md"))
-    args = parser.parse_args(argv)
-    table = render(measure(args.repeats), args.repeats)
-    doc = Path(args.doc)
+def write_doc(table: str, doc: Path) -> None:
+    """The table replaces the text between the markers (or ends the doc in a section of its own)."""
     text = doc.read_text(encoding="utf-8") if doc.exists() else ""
     if BEGIN in text and END in text:
         text = text[:text.index(BEGIN)] + table + text[text.index(END) + len(END):]
     else:
         text = text.rstrip("\n") + "\n\n## Speed of a switching run\n\n" + table + "\n"
     doc.write_text(text, encoding="utf-8")
+
+
+def main(argv: list[str]) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=5)
+    parser.add_argument("--doc", default=str(ROOT / "docs" / "numerics.md"))
+    args = parser.parse_args(argv)
+    table = render(measure(args.repeats), args.repeats)
+    write_doc(table, Path(args.doc))
     print(table)
     return 0
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -21,6 +22,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from suite import compile_time, machine, plots, report  # noqa: E402
 from suite.problems import all_problems  # noqa: E402
+from suite.targets import section  # noqa: E402
 from suite.timing import Budget  # noqa: E402
 from suite.workprecision import FULL_TOLERANCES, QUICK_TOLERANCES, run_problem  # noqa: E402
 
@@ -39,6 +41,19 @@ def log(message: str) -> None:
     print(message, flush=True)
 
 
+def cold_start(repeat: int) -> dict:
+    """CPU medians of new `dyadc simulate` processes of the excavator (a snapshot of the sources, as
+    bench_coldstart.py measures it) and the stages of an uncached one."""
+    import bench_coldstart
+    with tempfile.TemporaryDirectory(prefix="dyadc-bench-sources-") as copy:
+        bench_coldstart.SOURCES = bench_coldstart.snapshot(Path(copy))
+        samples = bench_coldstart.measure(bench_coldstart.EXCAVATOR, 12.0, repeat)
+        stages = bench_coldstart.stage_profile(bench_coldstart.EXCAVATOR, 12.0)
+    why = ("stages of an uncached run, wall s: " + ", ".join(f"{k} {v:.3f}" for k, v in stages.items())
+           + " (docs/cache.md, 'Cold start')")
+    return {"samples": samples, "why": why}
+
+
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer tolerances, smaller budgets")
@@ -49,6 +64,8 @@ def main(argv: list[str]) -> int:
                         help="skip the state-selection accuracy table (bench_accuracy.py, docs/numerics.md)")
     parser.add_argument("--no-floor", action="store_true", help="skip the floor benchmark (bench_floor.py) and the "
                                                                 "matched-tip-error comparison")
+    parser.add_argument("--no-targets", action="store_true", help="skip the cold-start and Cartesian-chain "
+                                                                  "measurements of the issue-15 targets")
     parser.add_argument("--out", default=str(ROOT / "docs"), help="folder for benchmarks.md (PNGs go to <out>/benchmarks/)")
     args = parser.parse_args(argv)
     os.environ.setdefault("OMP_NUM_THREADS", "1")      # scipy/numpy threads would steal the other core
@@ -102,16 +119,28 @@ def main(argv: list[str]) -> int:
         import bench_sweep
         bench_sweep.main(["--samples", "40" if args.quick else "200", "--doc", str(out / "sweeps.md")])
 
+    switching = None
     if not args.no_accuracy:
         log("== accuracy of dynamic state selection and error control (its table goes into numerics.md)")
         import bench_accuracy
         bench_accuracy.main((["--quick"] if args.quick else []) + ["--doc", str(out / "numerics.md")])
+        log("== the switching pendulum against one IDAS run of its angle ODE (numerics.md)")
         import bench_switching
-        bench_switching.main(["--repeats", str(settings["repeats"]), "--doc", str(out / "numerics.md")])
+        switching = bench_switching.measure(settings["repeats"])
+        bench_switching.write_doc(bench_switching.render(switching, settings["repeats"]), out / "numerics.md")
+
+    coldstart = cartesian = None
+    if not args.no_targets:
+        log("== cold start: dyadc simulate in new processes (bench_coldstart.py)")
+        coldstart = cold_start(3 if args.quick else 5)
+        log("== Cartesian chain N = 32 (bench_scale_cartesian.py)")
+        import bench_scale_cartesian
+        cartesian = list(bench_scale_cartesian.cartesian_rows(32, 1.0, 3, "tests"))[-1]
+    targets = section(floor, compile_data, switching, coldstart, cartesian)
 
     elapsed = time.perf_counter() - began
-    (out / "benchmarks.md").write_text(report.render(info, runs, compile_data, pngs, settings, elapsed, floor),
-                                       encoding="utf-8")
+    (out / "benchmarks.md").write_text(report.render(info, runs, compile_data, pngs, settings, elapsed, floor,
+                                                     targets), encoding="utf-8")
     log(f"wrote {out / 'benchmarks.md'} in {elapsed / 60:.1f} min")
     return 0
 
