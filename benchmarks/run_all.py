@@ -135,7 +135,7 @@ def main(argv: list[str]) -> int:
         coldstart = cold_start(3 if args.quick else 5)
         log("== Cartesian chain N = 32 (bench_scale_cartesian.py)")
         import bench_scale_cartesian
-        cartesian = list(bench_scale_cartesian.cartesian_rows(32, 1.0, 3, "tests"))[-1]
+        cartesian = list(bench_scale_cartesian.cartesian_rows(32, 2.0, 3, "tests"))[-1]
     targets = section(floor, compile_data, switching, coldstart, cartesian)
 
     elapsed = time.perf_counter() - began
