@@ -130,6 +130,11 @@ def totals(results: list[dict]) -> dict[str, tuple[int, int]]:
                                  len(with_values)),
         "matched_or_analysis": (sum(bool(run["matched"]) if run["kind"] == "test"
                                     else run["simulated"] for run in runs), len(runs)),
+        # issue 17's target: every run simulates, and a test case matches or its published
+        # value is shown wrong independently
+        "target_runs": (sum(bool(run["matched"] or _value_explained(r["file"], run)) if run["kind"] == "test"
+                            else bool(run["simulated"]) for r in results for run in r["runs"] if r["parsed"]),
+                        len(runs)),
     }
 
 
@@ -233,12 +238,13 @@ def markdown(results: list[dict], libraries: list, command: str, seconds: float,
              count["runs_explained"], None),
         _row("runs simulated or explained", (count["simulated"][0] + count["runs_explained"][0],
                                              count["simulated"][1]), None),
-        _row("test cases matching their published values", count["matched"], TARGETS["matched"]),
+        _row("test cases matching their published values", count["matched"], None),
         _row("test cases not matching, the published value shown wrong independently",
              count["values_explained"], None),
         _row("test cases matching or explained", count["matched_or_explained"], TARGETS["matched"]),
-        _row("runs simulated and matched (analyses: simulated)", count["matched_or_analysis"],
-             TARGETS["matched"]),
+        _row("runs simulated and matched (analyses: simulated)", count["matched_or_analysis"], None),
+        _row("runs simulated and matched or explained (issue 17's target; analyses: simulated)",
+             count["target_runs"], TARGETS["matched"]),
         "",
         "## Per library",
         "",
