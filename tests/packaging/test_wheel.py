@@ -97,10 +97,16 @@ def test_the_wheel_holds_every_package_and_the_whole_library(installed):
     _, wheel = installed
     names = set(zipfile.ZipFile(wheel).namelist())
     # every file of the compiler (modules, grammar, parser tables), without caches
+    # (shipped_trees/ is made by the build, below; the checkout's own copy may be older)
     package_files = sorted(str(p.relative_to(ROOT)) for p in (ROOT / "compiler").rglob("*")
-                           if p.is_file() and "__pycache__" not in p.parts)
+                           if p.is_file() and "__pycache__" not in p.parts and "shipped_trees" not in p.parts)
     missing = [p for p in package_files if p not in names]
     assert not missing, f"files of compiler/ missing from the wheel: {missing}"
+    # the library's parsed trees, made by setup.py's build (compiler/cache/library_trees.py)
+    from compiler.cache.library_trees import TREE_SUFFIX, tree_key
+    trees = {f"compiler/cache/shipped_trees/{tree_key(p.read_text(encoding='utf-8'))}{TREE_SUFFIX}"
+             for p in (ROOT / "components").rglob("*.dyad")}
+    assert trees and not trees - names, f"parsed trees missing from the wheel: {sorted(trees - names)[:3]}"
     assert "compiler/syntax/grammar.lark" in names
     library = sorted(str(p.relative_to(ROOT / "components")) for p in (ROOT / "components").rglob("*.dyad"))
     missing = [p for p in library if f"compiler/components/{p}" not in names]
