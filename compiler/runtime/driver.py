@@ -25,7 +25,7 @@ from .model import CompiledModel
 from .options import SimulationOptions
 from .outputs import signals_at
 from .progress import Progress
-from .relations import has_locks, settle_relations
+from .relations import has_locks, settle_relations, sliding
 from .result import Result
 from .run_state import RunState, StateSetSwitcher, switched_factor
 from .segments import first_step, segment_ends, segment_times, with_clock
@@ -250,6 +250,9 @@ def _integrate(run: RunState, model: CompiledModel, p: np.ndarray, point, progre
             x, z = x_cross, z_cross
         elif kind == "event":
             run.events.append({"time": float(t_cross), "event": what})
+            stuck = sliding(model, run.events)        # a sliding mode (relations.py)
+            if stuck is not None:
+                raise stuck
             x, z = x_cross, z_cross
         else:
             run.durations[tuple(model.state_names)] = t_cross - run.last_switch

@@ -13,15 +13,39 @@ from __future__ import annotations
 
 import numpy as np
 
-from .errors import InitializationFailed
+from .errors import InitializationFailed, SimulationFailed
 from .initialization import restart_point
 from .model import CompiledModel
 
 LIVE = 2.0                   # a lock holding this evaluates its relation as written
 MAX_EVENT_ITERATIONS = 20
 METADATA_KEY = "relation_locks"
+SLIDING_EVENTS = 20
+SLIDING_WINDOW = 1e-9
 
 _COMPARE = {">": np.greater, ">=": np.greater_equal, "<": np.less, "<=": np.less_equal}
+
+
+def sliding(model: CompiledModel, events: list[dict]) -> SimulationFailed | None:
+    """The failure to raise when the last SLIDING_EVENTS events are one relation flipping back and
+    forth within SLIDING_WINDOW relative time: a sliding mode, which neither branch of the
+    condition holds (`der(v) = ifelse(v > 0, -1, 1) + 0.5` at v = 0: each branch drives v across
+    0, so with locked relations every flip is an event, 6e-12 s apart at t = 2, and the run would
+    not get anywhere; with the relations live IDAS ground through 0.75 ms in 100,000 steps and
+    failed)."""
+    if len(events) < SLIDING_EVENTS:
+        return None
+    last = events[-SLIDING_EVENTS:]
+    if len({e["event"] for e in last}) != 1:
+        return None
+    t, window = last[-1]["time"], last[-1]["time"] - last[0]["time"]
+    if window > SLIDING_WINDOW * max(1.0, abs(t)):
+        return None
+    reason = (f"the condition {last[-1]['event']} switches back and forth ({SLIDING_EVENTS} times "
+              f"within {window:.3g} s): a sliding mode, which neither branch of the condition holds; "
+              f"the model needs an equation for its state on the switching surface (a stuck mode, "
+              f"or hysteresis in the condition)")
+    return SimulationFailed(f"simulation of {model.name} stopped at t = {t:.10g}: {reason}", t, reason)
 
 
 def has_locks(model: CompiledModel) -> bool:

@@ -187,3 +187,19 @@ relations
     assert event["time"] == pytest.approx(0.3, abs=1e-9)
     after = result.time > 0.3 + 1e-9
     np.testing.assert_allclose(result["y"], result["x"] + np.where(after, 1.0, 0.0), atol=1e-9)
+
+
+def test_a_sliding_mode_stops_the_run_with_its_condition_named(tmp_path):
+    # each branch drives v across 0 (v reaches it at t = 2): locked, every flip is an event a few
+    # picoseconds after the last; the run says so instead of creeping on for ever
+    from compiler.errors import DyadError
+    spec = model_file(tmp_path, "Slide", """
+  variable v::Real
+relations
+  initial v = 1.0
+  der(v) = ifelse(v > 0, -1.0, 1.0) + 0.5""")
+    with pytest.raises(DyadError) as caught:
+        api.simulate(spec, 4.0, points=9, rtol=1e-6)
+    assert caught.value.time_reached == pytest.approx(2.0, abs=1e-6)
+    assert "the condition v > 0 switches back and forth (20 times within" in str(caught.value)
+    assert "a sliding mode" in str(caught.value)
