@@ -92,6 +92,11 @@ def _stand_ins(system, kept: list[int]) -> set[int]:
     return {ddphi for dw, ddphi in _per_system(system, "stand-in pairs", _stand_in_pairs) if dw in kept_set}
 
 
+def stand_in_pairs(system) -> list[tuple[int, int]]:
+    """The system's (der(w), der(der(phi))) pairs (see _stand_in_pairs), found once per system."""
+    return _per_system(system, "stand-in pairs", _stand_in_pairs)
+
+
 def _stand_in_pairs(system) -> list[tuple[int, int]]:
     """(der(w), der(der(phi))) for every equation that says w = +-der(phi) (unit coefficients):
     a scan of every equation, 3 ms at chain N = 32, once per system instead of once per variant."""

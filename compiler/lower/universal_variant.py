@@ -18,7 +18,7 @@ import sympy
 
 from compiler import runtime
 from compiler.lower.to_casadi import lower
-from compiler.structure.differentiate import partial
+from compiler.lower.state_set_levels import stand_in_pairs
 from compiler.structure.reduce import Analysis
 from compiler.structure.reduced import InitialProblem, ReducedSystem
 
@@ -48,30 +48,12 @@ def universal_model(analysis: Analysis, reduced: ReducedSystem) -> runtime.Compi
     derivative = {system.names[v]: system.names[d] for v, d in enumerate(system.var_to_diff) if d >= 0}
     return model.replace(metadata={**model.metadata, UNIVERSAL: {
         "equations": system.n_eqs, "derivative": derivative,
-        "stand_ins": [[system.names[a], system.names[b]] for a, b in stand_in_pairs(system)]}})
+        # ddphi only stands in for dw where dw is kept as a state (w = der(phi) holds)
+        "stand_ins": [[system.names[a], system.names[b]] for a, b in sorted(set(stand_in_pairs(system)))
+                      if a >= 0]}})
 
 
 def with_universal(analysis: Analysis, variant):
     """`variant` (state_set_variants.Variant) whose model carries the universal system too."""
     return dataclasses.replace(variant, model=variant.model.replace(
         universal=universal_model(analysis, variant.reduced)))
-
-
-def stand_in_pairs(system) -> list[tuple[int, int]]:
-    """(dw, ddphi): ddphi only stands in for dw where dw is kept as a state (`w = der(phi)` holds,
-    so exchanging the two changes nothing; state_set_variants._stand_ins makes the same test for
-    one choice)."""
-    diff_to_var = system.diff_to_var()
-    pairs = []
-    for residual in system.equations:
-        symbols = [s for s in residual.free_symbols if s in system.index_of]
-        if len(symbols) != 2:
-            continue
-        a, b = (system.index_of[s] for s in symbols)
-        for w, dphi in ((a, b), (b, a)):
-            if diff_to_var[dphi] >= 0 and abs(partial(residual, system.symbols[w])) == 1 \
-                    and abs(partial(residual, system.symbols[dphi])) == 1:
-                dw, ddphi = system.var_to_diff[w], system.var_to_diff[dphi]
-                if dw >= 0 and ddphi >= 0:
-                    pairs.append((dw, ddphi))
-    return sorted(set(pairs))
