@@ -17,12 +17,12 @@ import dataclasses
 import sympy
 
 from compiler import runtime
+from compiler.runtime.universal import UNIVERSAL
 from compiler.lower.to_casadi import lower
 from compiler.lower.state_set_levels import stand_in_pairs
 from compiler.structure.reduce import Analysis
 from compiler.structure.reduced import InitialProblem, ReducedSystem
 
-UNIVERSAL = "universal_system"          # metadata of the universal model, see universal_model
 
 
 def universal_model(analysis: Analysis, reduced: ReducedSystem) -> runtime.CompiledModel:

@@ -40,15 +40,14 @@ def variant_of(universal: CompiledModel, dummies: frozenset[str], selection: Map
     u = ca.vertcat(*[where[name] for name in unknowns]) if unknowns else ca.SX(0, 1)
     none = ca.SX(0, 1)
     residuals = universal.dae(none, u, p, t)[1][:int(info["equations"])]
-    kept, residuals, solved = explicit_unknowns(residuals, symbols)
+    kept, alg, solved = explicit_unknowns(residuals, symbols)
     algebraics = [candidates[j] for j in kept]
     z = ca.vertcat(*[symbols[j] for j in kept]) if kept else ca.SX(0, 1)
-    alg = residuals
     u = ca.substitute(u, ca.vertcat(*[symbols[j] for j in solved]), ca.vertcat(*solved.values())) \
         if solved else u
     where = {name: u[i] for i, name in enumerate(unknowns)}
     ode = ca.vertcat(*[where[derivative[s]] for s in states]) if states else ca.SX(0, 1)
-    values = ca.vertcat(universal.outputs(none, u, p, t), ca.SX(1, 1) * 0)
+    values = ca.vertcat(universal.outputs(none, u, p, t), ca.SX.zeros(1, 1))
     output_names = list(universal.output_names) + [ZERO]
     inputs, labels = [x, z, p, t], ["x", "z", "p", "t"]
     events = None
@@ -142,7 +141,8 @@ def monitored_levels(selection: Mapping, dummies: frozenset[str], stand_in_pairs
         priority = level["priority"]
         if len(folded) > len(rows):
             kept = [c for c in folded if c not in folded_chosen]
-            stand_ins = {b for a, b in stand_in_pairs if a in set(kept)}
+            kept_set = set(kept)
+            stand_ins = {b for a, b in stand_in_pairs if a in kept_set}
             entry = {(i, c): at.get(selection_output(k, i, c), at[ZERO]) for i in rows for c in folded}
             varying = [c for c in folded_chosen if c not in stand_ins and any(
                 ca.depends_on(values[entry[(i, c)]], varying_in) for i in rows)]
