@@ -16,6 +16,18 @@ from math import comb
 from typing import Callable, Iterator, Mapping, Sequence
 
 
+def augment_path(positions: Mapping[int, Sequence[int]], matched: dict[int, int], v: int, seen: set) -> bool:
+    """Match column v to a row position, moving matched columns along an augmenting path (Kuhn's
+    algorithm): `matched` (row position -> column) is updated in place; False where none exists."""
+    for i in positions.get(v, ()):
+        if i not in seen:
+            seen.add(i)
+            if i not in matched or augment_path(positions, matched, matched[i], seen):
+                matched[i] = v
+                return True
+    return False
+
+
 def regular_subsets(positions: Mapping[int, Sequence[int]], fixed: Sequence[int], rest: Sequence[int],
                     size: int, spend: Callable[[int], None]) -> Iterator[tuple[int, ...]]:
     """The subsets of `size` columns of `rest` that, with `fixed`, match every row (`positions`:
@@ -26,13 +38,7 @@ def regular_subsets(positions: Mapping[int, Sequence[int]], fixed: Sequence[int]
     matched: dict[int, int] = {}          # row position -> column
 
     def augment(v: int, seen: set) -> bool:
-        for i in positions.get(v, ()):
-            if i not in seen:
-                seen.add(i)
-                if i not in matched or augment(matched[i], seen):
-                    matched[i] = v
-                    return True
-        return False
+        return augment_path(positions, matched, v, seen)
 
     if not all([augment(v, set()) for v in fixed]):
         spend(comb(len(rest), size))      # every subset looked at, none regular

@@ -23,6 +23,7 @@ from compiler.model.flat import FlatSystem
 from compiler.lower.selection_layout import selection_assignments, selection_levels, selection_metadata
 from compiler.lower.state_set_folds import alias_folds
 from compiler.lower.state_set_levels import _priority_function, monitored_levels
+from compiler.lower.regular_subsets import augment_path
 from compiler.lower.to_casadi import lower
 from compiler.runtime.variants import DUMMIES, SELECTION, dummy_choice
 from compiler.structure.collection import fewer_collections
@@ -182,17 +183,8 @@ def matching(system: IndexedSystem, rows, columns, positions: dict[int, list[int
     if positions is None:
         positions = row_positions(system, rows)
     row_to_column: dict[int, int] = {}
-
-    def augment(v, seen) -> bool:
-        for i in positions.get(v, ()):
-            if i not in seen:
-                seen.add(i)
-                if i not in row_to_column or augment(row_to_column[i], seen):
-                    row_to_column[i] = v
-                    return True
-        return False
     for v in columns:
-        augment(v, set())
+        augment_path(positions, row_to_column, v, set())
     return {v: i for i, v in row_to_column.items()}
 
 
