@@ -182,7 +182,8 @@ def _integrate(run: RunState, model: CompiledModel, p: np.ndarray, point, progre
         crossing = None if watch is None else first_crossing(model, watch, t, p, times, checks,
                                                               segment, watched,
                                                               {i for i, label in enumerate(watch.labels)
-                                                               if label in run.ignored})
+                                                               if label in run.ignored}
+                                                              if run.ignored else frozenset())
         reached = len(times) if crossing is None else int(np.searchsorted(times, crossing[0]))
         check_divergence(model, np.asarray(times[:reached]), segment.xs[:, :reached], scale)
         n_out = m if crossing is None else int(np.searchsorted(outputs[:m], crossing[1], side="right"))
