@@ -1,0 +1,89 @@
+"""Issue 28, errors of a newcomer's second hour: every location at the declaration (never at its
+doc string), `check` and `simulate` agreeing on a parameter without a value (its hint in the
+declared type, a note where the component is instantiated)."""
+from __future__ import annotations
+
+import re
+import textwrap
+from pathlib import Path
+
+from compiler.cli import main
+
+TYPES = """
+type Resistance = Real(units = "Ohm")
+connector Pin
+  potential v::Real
+  flow i::Real
+end
+component Resistor
+  p = Pin()
+  n = Pin()
+  "Resistance"
+  parameter R::Resistance
+relations
+  p.v - n.v = R * p.i
+  p.i + n.i = 0
+end
+component Ground
+  g = Pin()
+relations
+  g.v = 0
+end
+component Source
+  p = Pin()
+  n = Pin()
+relations
+  p.v - n.v = 1
+  p.i + n.i = 0
+end
+component Circuit
+  source = Source()
+  resistor = Resistor()
+  ground = Ground()
+relations
+  connect(source.p, resistor.p)
+  connect(resistor.n, source.n, ground.g)
+end
+"""
+
+RUNAWAY = """
+component Runaway
+  "Angular velocity"
+  variable w::Real
+relations
+  der(w) = w
+  initial w = 1
+end
+"""
+
+
+def write(folder: Path, name: str, text: str) -> Path:
+    path = folder / name
+    path.write_text(textwrap.dedent(text).lstrip("\n"), encoding="utf-8")
+    return path
+
+
+def line_of(path: Path, marker: str) -> int:
+    return next(i + 1 for i, line in enumerate(path.read_text().splitlines()) if marker in line)
+
+
+def run(capsys, *argv: str) -> tuple[int, str, str]:
+    code = main(list(argv))
+    out, err = capsys.readouterr()
+    assert "Traceback" not in err and "internal error" not in err, err
+    return code, out, err
+
+
+def located_lines(err: str, path: Path) -> list[tuple[str, int]]:
+    """(kind, line) of every `FILE:LINE:COL: error|note:` in `err` that is in `path`."""
+    return [(m.group(3), int(m.group(2))) for m in re.finditer(r"^(.*):(\d+):\d+: (error|note): ", err,
+                                                                re.MULTILINE)
+            if Path(m.group(1)).resolve() == path.resolve()]
+
+
+def test_a_runaway_variable_is_pointed_at_its_declaration_not_its_doc_string(tmp_path, capsys):
+    path = write(tmp_path, "Runaway.dyad", RUNAWAY)
+    code, _, err = run(capsys, "simulate", str(path), "--stop", "40", "--no-cache")
+    assert code == 1
+    assert ("note", line_of(path, "variable w::")) in located_lines(err, path), err
+    assert '"Angular velocity"' not in err
