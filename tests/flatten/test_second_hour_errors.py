@@ -81,6 +81,39 @@ def located_lines(err: str, path: Path) -> list[tuple[str, int]]:
             if Path(m.group(1)).resolve() == path.resolve()]
 
 
+def test_check_and_simulate_refuse_a_missing_value_alike_at_the_declaration(tmp_path, capsys):
+    path = write(tmp_path, "Circuit.dyad", TYPES)
+    spec = f"{path}:Circuit"
+    check_code, _, check_err = run(capsys, "check", spec)
+    simulate_code, _, simulate_err = run(capsys, "simulate", spec, "--stop", "1")
+    assert (check_code, simulate_code) == (1, 1), check_err + simulate_err
+    for err in (check_err, simulate_err):
+        # the declaration, not its doc string one line above; the instantiation as a note
+        assert located_lines(err, path)[:2] == [("error", line_of(path, "parameter R::")),
+                                                ("note", line_of(path, "resistor = Resistor()"))], err
+        assert "`resistor.R`" in err and "has no value" in err
+        assert "R = VALUE" in err and "-p resistor.R=VALUE" in err
+    assert check_err.split("\n", 1)[0] == simulate_err.split("\n", 1)[0]
+
+
+def test_the_hint_for_a_parameter_of_the_model_itself_uses_its_declared_type(tmp_path, capsys):
+    path = write(tmp_path, "Decay.dyad", """
+        type Rate = Real(units = "1/s")
+        component Decay
+          "Decay rate"
+          parameter k::Rate
+          variable x::Real
+        relations
+          der(x) = -k * x
+          initial x = 1
+        end
+        """)
+    code, _, err = run(capsys, "check", f"{path}:Decay")
+    assert code == 1
+    assert located_lines(err, path) == [("error", line_of(path, "parameter k::"))], err
+    assert "`parameter k::Rate = VALUE`" in err and "::Real" not in err
+
+
 def test_a_runaway_variable_is_pointed_at_its_declaration_not_its_doc_string(tmp_path, capsys):
     path = write(tmp_path, "Runaway.dyad", RUNAWAY)
     code, _, err = run(capsys, "simulate", str(path), "--stop", "40", "--no-cache")
