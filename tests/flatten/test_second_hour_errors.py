@@ -120,3 +120,26 @@ def test_a_runaway_variable_is_pointed_at_its_declaration_not_its_doc_string(tmp
     assert code == 1
     assert ("note", line_of(path, "variable w::")) in located_lines(err, path), err
     assert '"Angular velocity"' not in err
+
+
+def test_a_misspelt_component_gets_a_component_suggested_not_a_quantity_type(tmp_path, capsys):
+    path = write(tmp_path, "Motor.dyad", """
+        component Motor
+          resistor = ElectricalComponents.Resistr(R = 1)
+          ground = ElectricalComponents.Ground()
+        relations
+          connect(resistor.p, resistor.n, ground.g)
+        end
+        """)
+    code, _, err = run(capsys, "check", str(path))
+    assert code == 1
+    assert "unknown component type `ElectricalComponents.Resistr`" in err
+    assert err.rstrip().endswith("hint: did you mean `ElectricalComponents.Resistor`?"), err
+
+
+def test_an_unqualified_misspelt_component_is_matched_among_the_files_components(tmp_path, capsys):
+    text = TYPES.replace("resistor = Resistor()", "resistor = Resistr(R = 1)")
+    path = write(tmp_path, "Circuit.dyad", text.replace("type Resistance", "type Resistr_"))
+    code, _, err = run(capsys, "check", f"{path}:Circuit")
+    assert code == 1
+    assert err.rstrip().endswith("hint: did you mean `Resistor`?"), err
