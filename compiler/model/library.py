@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Callable, Sequence
 
 from compiler.errors import DyadError, Span, closest, suggest_name
+from compiler.syntax.modelica_forms import modelica_form_error
 from compiler.model.functions import ELEMENTARY, GLOBAL_REGISTRY, FunctionImpl, FunctionRegistry, \
     suggest_function
 from compiler.model.julia_functions import JuliaFunction, UnreadableFunction, julia_source_files, \
@@ -259,6 +260,9 @@ class Library:
                             hint=f"{skipped[0]} was not run: dyadc runs a library's Python only "
                                  f"from folders named with -L DIR or {LIBRARY_PATH_VARIABLE}; if you "
                                  f"trust it, add -L {skipped[0].parent}")
+        modelica = modelica_form_error(name, span)          # `pre(x)`, `edge(b)`
+        if modelica is not None:
+            raise modelica
         suggestion = suggest_function(name, self.registry)
         raise DyadError(f"unknown function `{name}`", span,
                         hint=f"did you mean `{suggestion}`?" if suggestion else None)

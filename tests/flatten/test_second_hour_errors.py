@@ -143,3 +143,20 @@ def test_an_unqualified_misspelt_component_is_matched_among_the_files_components
     code, _, err = run(capsys, "check", f"{path}:Circuit")
     assert code == 1
     assert err.rstrip().endswith("hint: did you mean `Resistor`?"), err
+
+
+def test_modelica_pre_and_edge_are_answered_with_what_dyad_offers(tmp_path, capsys):
+    for word in ("pre", "edge"):
+        path = write(tmp_path, f"Uses_{word}.dyad", f"""
+            component Uses_{word}
+              variable x::Real
+              variable y::Real
+            relations
+              der(x) = -x
+              y = {word}(x)
+            end
+            """)
+        code, _, err = run(capsys, "check", str(path))
+        assert code == 1
+        assert located_lines(err, path) == [("error", line_of(path, f"{word}(x)"))], err
+        assert f"`{word}` is Modelica" in err and "ifelse(" in err and "unknown function" not in err
