@@ -59,8 +59,9 @@ class EliminatedSystem:
         outputs = model.outputs(x, z, p, t)
         y = ca.vertcat(*[outputs[i] for i in self.output_rows]) if self.output_rows else ca.SX(0, 1)
         u = ca.vertcat(*[p[i] for i in self.input_indices]) if self.input_indices else ca.SX(0, 1)
-        blocks = [ca.jacobian(e, v) for e in (ode, alg, y) for v in (x, z, u)]
-        return ca.Function("eliminated_jacobians", [x, z, p, t], [ode, alg, y, *blocks])
+        # one Jacobian of every row w.r.t. every unknown: one AD sweep, split after evaluation
+        whole = ca.jacobian(ca.vertcat(ode, alg, y), ca.vertcat(x, z, u))
+        return ca.Function("eliminated_jacobians", [x, z, p, t], [ode, alg, y, whole])
 
     def solve_algebraic(self, x: np.ndarray, p: np.ndarray, t: float, z_guess: np.ndarray,
                         tol: float = 1e-12, max_iterations: int = 50) -> np.ndarray:
@@ -89,8 +90,11 @@ class EliminatedSystem:
     def jacobians(self, x: np.ndarray, z: np.ndarray, p: np.ndarray, t: float) -> Jacobians:
         """A, B, C, D at (x, z, p, t); z must solve the algebraic equations there."""
         values = [np.asarray(ca.densify(v), dtype=float) for v in self._function(x, z, p, t)]
-        ode, _alg, y = (v.reshape(-1) for v in values[:3])
-        (fx, fz, fu), (gx, gz, gu), (hx, hz, hu) = values[3:6], values[6:9], values[9:12]
+        ode, alg, y = (v.reshape(-1) for v in values[:3])
+        rows = np.cumsum([len(ode), len(alg)])
+        columns = np.cumsum([len(x), len(z)])
+        (fx, fz, fu), (gx, gz, gu), (hx, hz, hu) = (np.hsplit(block, columns)
+                                                    for block in np.vsplit(values[3], rows))
         if gz.size:
             try:
                 eliminated = np.linalg.solve(gz, np.hstack([gx, gu]))
