@@ -38,7 +38,7 @@ class Request:
 
 def linearize_spec(spec: str, request: Request, lib_dirs: Sequence[str] = (), cache: bool = True
                    ) -> LinearSystem:
-    compiled = _compile(spec, request, lib_dirs, cache)
+    compiled = compile_linear(spec, request, lib_dirs, cache)
     return _linearize(compiled, request)
 
 
@@ -47,7 +47,7 @@ def closed_loop_function(spec: str, kind: str, point: str, request: Request,
     """`kind` "sensitivity", "comp_sensitivity" or "loop_transfer" at analysis point `point`."""
     opened = tuple(request.opened) + ((point,) if kind == "loop_transfer" else ())
     asked = dataclasses.replace(request, inputs=(point,), outputs=(point,), opened=opened, minimal=False)
-    compiled = _compile(spec, asked, lib_dirs, cache=False)
+    compiled = compile_linear(spec, asked, lib_dirs, cache=False)
     ap = analysis_points(compiled.flat)[point]
     measured = list(ap.inputs if kind == "sensitivity" else ap.outputs)
     labels = ap.scalar_names()
@@ -59,14 +59,18 @@ def closed_loop_function(spec: str, kind: str, point: str, request: Request,
 
 
 @dataclass
-class _Compiled:
+class LinearCompilation:
+    """The compiled model behind a linearization, with the flat model it was compiled from (None
+    when it came from the cache) and the names of its parameters that are inputs."""
     compilation: object
     flat: object | None
     inputs: list[str]            # every parameter that is an input
     free: list[str] = field(default_factory=list)     # the free top-level inputs among them
 
 
-def _compile(spec: str, request: Request, lib_dirs: Sequence[str], cache: bool) -> _Compiled:
+def compile_linear(spec: str, request: Request, lib_dirs: Sequence[str], cache: bool) -> LinearCompilation:
+    """From the cache when nothing needs the flat model; else with free inputs and the analysis
+    points the request perturbs or opens made parameters (compiler/linear/inputs.py)."""
     from compiler.pipeline import compile_flat, compile_or_load, flatten_spec
     if cache and not request.inputs and not request.opened:
         from compiler.cache import models
@@ -76,7 +80,7 @@ def _compile(spec: str, request: Request, lib_dirs: Sequence[str], cache: bool) 
         except (OSError, CacheError):
             found = None
         if found is not None and all(n in found.model.output_names for n in request.outputs):
-            return _Compiled(found, None, [])
+            return LinearCompilation(found, None, [])
     flat = flatten_spec(spec, lib_dirs)[0]
     points = analysis_points(flat)
     free = free_inputs(flat)
@@ -86,9 +90,9 @@ def _compile(spec: str, request: Request, lib_dirs: Sequence[str], cache: bool) 
     perturbed = [n for n in request.inputs if n in points]
     if not (perturbed or request.opened or free):
         compilation = compile_or_load(spec, lib_dirs, cache=cache)
-        return _Compiled(compilation, flat, [])
+        return LinearCompilation(compilation, flat, [])
     changed = with_linear_inputs(flat, perturbed, list(request.opened))
-    return _Compiled(compile_flat(changed), changed, list(changed.metadata["linear_inputs"]), free)
+    return LinearCompilation(compile_flat(changed), changed, list(changed.metadata["linear_inputs"]), free)
 
 
 def _unknown(flat, name: str, points, free, opening: bool):
@@ -103,7 +107,7 @@ def _unknown(flat, name: str, points, free, opening: bool):
                          f"{', '.join(sorted(points)) or 'none'}")
 
 
-def _linearize(compiled: _Compiled, request: Request, inputs: Sequence[str] | None = None,
+def _linearize(compiled: LinearCompilation, request: Request, inputs: Sequence[str] | None = None,
                outputs: Sequence[str] | None = None, labels: Sequence[str] | None = None) -> LinearSystem:
     model = compiled.compilation.model
     if inputs is None:
@@ -125,7 +129,7 @@ def _linearize(compiled: _Compiled, request: Request, inputs: Sequence[str] | No
     return system.minimal_realization() if request.minimal else system
 
 
-def _outputs(compiled: _Compiled, request: Request) -> tuple[list[str], list[str]]:
+def _outputs(compiled: LinearCompilation, request: Request) -> tuple[list[str], list[str]]:
     model = compiled.compilation.model
     points = analysis_points(compiled.flat) if compiled.flat is not None else {}
     if not request.outputs:
@@ -146,13 +150,13 @@ def _outputs(compiled: _Compiled, request: Request) -> tuple[list[str], list[str
     return names, labels
 
 
-def _run(compiled: _Compiled, request: Request):
+def _run(compiled: LinearCompilation, request: Request):
     from compiler.api import simulate_compiled
     overrides = {**dict(request.params), **dict(request.op)}
     return simulate_compiled(compiled.compilation, float(request.at), points=2, params=overrides or None)
 
 
-def _switcher(compiled: _Compiled):
+def _switcher(compiled: LinearCompilation):
     compilation = compiled.compilation
     model = compilation.model
     if getattr(compilation, "dynamic", False) and not model.variants and model.universal is None:

@@ -51,17 +51,16 @@ class LinearSystem:
         return control.ss(self.A, self.B, self.C, self.D, inputs=list(self.inputs),
                           outputs=list(self.outputs), states=list(self.states) or None)
 
-    def minimal_realization(self, tol: float | None = None) -> "LinearSystem":
-        """The minimal realization (python-control's minreal: uncontrollable and unobservable
-        modes removed); its states are new coordinates named x1, x2, ..."""
-        import control
-        if not self.A.size:
-            return dataclasses.replace(self, minimal=True)
-        reduced = control.minreal(control.ss(self.A, self.B, self.C, self.D), tol=tol, verbose=False)
-        n = reduced.A.shape[0]
-        return dataclasses.replace(self, A=np.asarray(reduced.A), B=np.asarray(reduced.B),
-                                   C=np.asarray(reduced.C), D=np.asarray(reduced.D),
-                                   states=[f"x{k + 1}" for k in range(n)], minimal=True)
+    def minimal_realization(self, tol: float = 1e-9) -> "LinearSystem":
+        """The minimal realization: the reachable part (orthonormal Krylov basis of (A, B)), then
+        its observable part (the same on (A', C')); its states are new coordinates x1, x2, ...
+        (python-control's minreal needs slycot, an optional Fortran package)."""
+        reach = _krylov_basis(self.A, self.B, tol)
+        a, b, c = reach.T @ self.A @ reach, reach.T @ self.B, self.C @ reach
+        observe = _krylov_basis(a.T, c.T, tol)
+        a, b, c = observe.T @ a @ observe, observe.T @ b, c @ observe
+        return dataclasses.replace(self, A=a, B=b, C=c, D=self.D.copy(),
+                                   states=[f"x{k + 1}" for k in range(a.shape[0])], minimal=True)
 
     def select(self, inputs: Sequence[int] | None = None, outputs: Sequence[int] | None = None
                ) -> "LinearSystem":
@@ -70,6 +69,27 @@ class LinearSystem:
         return dataclasses.replace(self, B=self.B[:, ins], C=self.C[outs, :], D=self.D[np.ix_(outs, ins)],
                                    inputs=[self.inputs[i] for i in ins],
                                    outputs=[self.outputs[i] for i in outs])
+
+
+def _krylov_basis(a: np.ndarray, b: np.ndarray, tol: float) -> np.ndarray:
+    """An orthonormal basis of span[b, a b, a^2 b, ...] (rank decided by singular values above
+    `tol` times the largest)."""
+    n = a.shape[0]
+    scale = max(np.abs(b).max(initial=0.0), np.abs(a).max(initial=0.0), 1e-300)
+    basis = _orthonormal(b, tol * scale)
+    while 0 < basis.shape[1] < n:
+        grown = _orthonormal(np.hstack([basis, a @ basis]), tol * scale)
+        if grown.shape[1] == basis.shape[1]:
+            break
+        basis = grown
+    return basis
+
+
+def _orthonormal(m: np.ndarray, threshold: float) -> np.ndarray:
+    if not m.size:
+        return np.zeros((m.shape[0], 0))
+    u, sv, _ = np.linalg.svd(m, full_matrices=False)
+    return u[:, :int(np.sum(sv > threshold))]
 
 
 def linearize_at(point: OperatingPoint, inputs: Sequence[str], outputs: Sequence[str],
