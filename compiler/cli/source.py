@@ -1,23 +1,12 @@
-"""`dyadc` commands that read and print sources: parse, fmt, check, flatten, inspect, compile,
-generate; and the model arguments every model command takes (compiler/cli.py builds the parser)."""
+"""`dyadc` commands that read a model and print or write what a stage made of it: parse, fmt,
+check, flatten, inspect, compile."""
 from __future__ import annotations
 
-import argparse
 import os
 import sys
 from pathlib import Path
 
-
-LIB_HELP = ("library folder, searched after the shipped library and before $DYADC_PATH "
-            "(repeatable); its dyad_functions.py files may run")
-
-
-def add_model_arguments(p: argparse.ArgumentParser) -> None:
-    p.add_argument("model", metavar="MODEL", help="model file, file:Name, or qualified name")
-    p.add_argument("-L", "--lib", dest="lib", action="append", default=[], metavar="DIR", help=LIB_HELP)
-    p.add_argument("--max-elements", type=int, metavar="N",
-                   help="refuse array sizes, ranges, loops and component arrays of more than N elements "
-                        "(default $DYADC_MAX_ELEMENTS or 1000000)")
+from compiler.cli.arguments import add_model_arguments
 
 
 def add_parse(sub) -> None:
@@ -65,13 +54,8 @@ def add_compile(sub) -> None:
     p.set_defaults(run=run_compile)
 
 
-def add_generate(sub) -> None:
-    p = sub.add_parser("generate", help="regenerate the committed modules in generated/")
-    p.add_argument("-o", "--output-dir", default="generated", metavar="DIR")
-    p.set_defaults(run=run_generate)
-
-
-ADDERS = {"parse": add_parse, "fmt": add_fmt, "check": add_check, "flatten": add_flatten, "inspect": add_inspect, "compile": add_compile, "generate": add_generate}
+ADDERS = {"parse": add_parse, "fmt": add_fmt, "check": add_check, "flatten": add_flatten,
+          "inspect": add_inspect, "compile": add_compile}
 
 
 # ----------------------------------------------------------------------------------------- commands
@@ -114,7 +98,7 @@ def run_flatten(args) -> int:
 
 
 def run_inspect(args) -> int:
-    from compiler.inspect_report import format_report, format_switch_log
+    from compiler.cli.inspect_report import format_report, format_switch_log
     from compiler.pipeline import compile_spec
     compilation = compile_spec(args.model, args.lib)
     print(format_report(compilation))
@@ -129,7 +113,7 @@ def run_inspect(args) -> int:
 
 
 def run_compile(args) -> int:
-    from compiler.cli_outputs import check_output_folder
+    from compiler.cli.outputs import check_output_folder
     from compiler.lower.codegen import write_module
     from compiler.lower.generate import module_name
     from compiler.pipeline import compile_spec
@@ -138,11 +122,4 @@ def run_compile(args) -> int:
     name = args.name or module_name(compilation.model.name)
     path = write_module(compilation.model, name, args.output_dir, standalone=args.standalone)
     print(f"wrote {path}")
-    return 0
-
-
-def run_generate(args) -> int:
-    from compiler.lower.generate import generate_all
-    for path in generate_all(args.output_dir):
-        print(f"wrote {path}")
     return 0

@@ -9,14 +9,16 @@ from __future__ import annotations
 import argparse
 import sys
 
+from compiler.cli.arguments import add_lib_argument
+
 RUN_HELP = "run an `analysis` block (TransientAnalysis) and write its result (CSV by default)"
 
 
-def add_run_parser(sub, lib_help: str) -> None:
+def add_run(sub) -> None:
     p = sub.add_parser("run", help=RUN_HELP, description=RUN_HELP + ". ANALYSIS is "
                        "path/File.dyad:Name, path/File.dyad (its one analysis) or a qualified name.")
     p.add_argument("analysis", metavar="ANALYSIS", help="analysis file:Name or qualified name")
-    p.add_argument("-L", "--lib", dest="lib", action="append", default=[], metavar="DIR", help=lib_help)
+    add_lib_argument(p)
     p.add_argument("-p", dest="params", action="append", default=[], metavar="NAME=VALUE[UNIT]",
                    help="override an analysis parameter, else a model parameter (repeatable)")
     p.add_argument("--points", type=int, default=501, metavar="N",
@@ -27,14 +29,17 @@ def add_run_parser(sub, lib_help: str) -> None:
     p.add_argument("--plot", metavar="FILE.png", help="also plot the result, one subplot per unit")
     p.add_argument("--max-output-values", type=int, metavar="N",
                    help="refuse runs storing more than N output values (as dyadc simulate)")
-    p.set_defaults(run=main_run)
+    p.set_defaults(run=run_analysis)
 
 
-def main_run(args: argparse.Namespace) -> int:
-    from compiler import cli_options as options
+ADDERS = {"run": add_run}
+
+
+def run_analysis(args: argparse.Namespace) -> int:
+    from compiler.cli import options
     from compiler.analysis.transient import FIELDS, find_analysis, read_transient
     from compiler.api import simulate_compiled
-    from compiler.cli_outputs import check_simulate_outputs, write_result
+    from compiler.cli.outputs import check_simulate_outputs, write_result
     from compiler.errors import DyadError
     from compiler.model.flatten import flatten_resolved
     from compiler.model.library import Library

@@ -1,4 +1,4 @@
-"""`dyadc cache info` (where the cache is, what it holds) and `dyadc cache clear` (empty it)."""
+"""What the compilation cache holds (`info_lines`) and emptying it (`clear`): `dyadc cache`."""
 from __future__ import annotations
 
 import shutil
@@ -59,12 +59,3 @@ def clear() -> list[Path]:
                     path.unlink(missing_ok=True)
                 removed.append(path)
     return removed
-
-
-def main_cache(action: str) -> int:
-    if action == "clear":
-        removed = clear()
-        print(f"removed {len(removed)} files from the compilation cache")
-        return 0
-    print("\n".join(info_lines()))
-    return 0

@@ -1,11 +1,11 @@
-"""`dyadc simulate` (options checked before any compiling, the compiled model from the cache or the
-compiler, the result written or its final values printed) and `dyadc cache`."""
+"""`dyadc simulate`: options checked before any compiling, the compiled model from the cache or the
+compiler, the result written or its final values printed."""
 from __future__ import annotations
 
 import os
 import sys
 
-from compiler.cli_source import add_model_arguments
+from compiler.cli.arguments import add_model_arguments
 from compiler.errors import Note, SimulationError
 
 
@@ -45,13 +45,7 @@ def add_simulate(sub) -> None:
     p.set_defaults(run=run_simulate)
 
 
-def add_cache(sub) -> None:
-    p = sub.add_parser("cache", help="where the compilation cache is and what it holds; clear it")
-    p.add_argument("action", choices=["info", "clear"])
-    p.set_defaults(run=run_cache)
-
-
-ADDERS = {"simulate": add_simulate, "cache": add_cache}
+ADDERS = {"simulate": add_simulate}
 
 
 # ----------------------------------------------------------------------------------------- commands
@@ -65,15 +59,10 @@ def run_simulate(args) -> int:
             print(build.finish(), file=sys.stderr)
 
 
-def run_cache(args) -> int:
-    from compiler.cache.command import main_cache
-    return main_cache(args.action)
-
-
 def _simulate(args, background: list) -> int:
-    from compiler import cli_options as options
+    from compiler.cli import options
     from compiler.api import simulate_compiled
-    from compiler.cli_outputs import check_simulate_outputs, write_result
+    from compiler.cli.outputs import check_simulate_outputs, write_result
     from compiler.pipeline import compile_or_load
     # Every option is checked before the compiler runs: a typo must cost neither a compile nor a run.
     options.check_span(args.start, args.stop)

@@ -1,13 +1,55 @@
-"""`dyadc sweep`: the command line over compiler.sweep.sweep."""
+"""`dyadc sweep`: the command line over compiler.sweep.sweep (docs/sweeps.md)."""
 from __future__ import annotations
 
+import argparse
 import sys
 from pathlib import Path
 
+from compiler.cli.arguments import add_model_arguments
 from compiler.errors import DyadError
 
 
-def main_sweep(args) -> int:
+def add_sweep(sub) -> None:
+    p = sub.add_parser("sweep", help="run a model over a grid or random samples of its parameters "
+                                     "(Dask or --serial); see docs/sweeps.md")
+    add_model_arguments(p)
+    p.add_argument("--start", type=float, default=0.0, metavar="T0")
+    p.add_argument("--stop", type=float, required=True, metavar="T")
+    p.add_argument("--rtol", type=float, default=1e-6, metavar="R")
+    p.add_argument("--atol", type=float, default=1e-6, metavar="A")
+    p.add_argument("--points", type=int, default=501, metavar="N", help="output points (default 501)")
+    p.add_argument("-p", dest="params", action="append", default=[], metavar="NAME=AXIS",
+                   help="START:STOP:COUNT or [V1,V2] (grid axes), LOW:HIGH, uniform(a,b), "
+                        "loguniform(a,b), normal(mean,std) (with --samples), or VALUE (fixed)")
+    p.add_argument("--samples", type=int, metavar="N", help="draw N samples instead of a grid")
+    p.add_argument("--method", choices=["lhs", "random"], default="lhs",
+                   help="sampling for --samples: Latin hypercube (default) or plain random")
+    p.add_argument("--seed", type=int, default=None, metavar="S", help="seed for --samples")
+    p.add_argument("--vars", nargs="+", metavar="NAME", help="signals to record (default: the states)")
+    p.add_argument("--metrics", nargs="+", default=[], metavar="EXPR",
+                   help="per-sample scalars, e.g. 'max(abs(tip.y))' or 'peak=max(soil.F_y)'")
+    p.add_argument("--output", metavar="FILE.parquet|FILE.csv",
+                   help="trajectories; the per-sample table goes to FILE.samples.EXT")
+    p.add_argument("--plot", metavar="FILE.png", help="fan charts of the first three --vars over time, "
+                                                      "scatters of each metric against each swept parameter")
+    p.add_argument("--serial", action="store_true", help="run the samples here, one after another (no Dask)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="an existing Dask scheduler, e.g. tcp://host:8786 (default $DASK_SCHEDULER_ADDRESS, "
+                        "else a local cluster)")
+    p.add_argument("--workers", type=int, metavar="N", help="local cluster size (default: one per core)")
+    p.add_argument("--recompile", action="store_true",
+                   help="allow structural parameters (array sizes, branches): compile once per distinct value")
+    p.add_argument("--batch-size", type=int, metavar="N", help="samples per Dask task (default: sized "
+                                                               "so task overhead stays under 10%%)")
+    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                   help="progress bar on stderr (default: when stderr is a terminal)")
+    p.set_defaults(run=run_sweep)
+
+
+ADDERS = {"sweep": add_sweep}
+
+
+def run_sweep(args) -> int:
     from compiler.sweep.api import SweepInterrupted, SweepOptions, sweep
     from compiler.sweep.design import grid_design, parse_assignment, sampled_design
     from compiler.sweep.writers import sibling, table_format
