@@ -16,7 +16,6 @@ import itertools
 import warnings
 from dataclasses import dataclass
 
-import sympy
 
 from compiler import runtime
 from compiler.errors import DyadError
@@ -24,15 +23,13 @@ from compiler.model.flat import FlatSystem
 from compiler.lower.to_casadi import lower
 from compiler.runtime.selection_rules import watched_level
 from compiler.runtime.variants import DUMMIES, SELECTION
-from compiler.structure.differentiate import partial
 from compiler.structure.reduce import Analysis, StructureReport, reduce
-from compiler.structure.reduced import Assignment, ReducedSystem
+from compiler.structure.reduced import ReducedSystem
 from compiler.structure.state_selection.enumeration import TooManyToList, possible_choices
-from compiler.structure.state_selection.folds import alias_folds
 from compiler.structure.state_selection.forcing import forcing
 from compiler.structure.state_selection.layout import (choice_priority, selection_assignments, selection_levels,
                                                        selection_metadata)
-from compiler.structure.state_selection.monitored import monitored_levels
+from compiler.structure.state_selection.monitored import monitored_levels, pivot_outputs
 
 VARIANT_LIMIT = 64
 COUNT_LIMIT = 1_000      # how far an over-the-limit model's variants are counted (100,000 took 6 s)
@@ -40,11 +37,6 @@ COUNT_LIMIT = 1_000      # how far an over-the-limit model's variants are counte
 
 class VariantLimitWarning(UserWarning):
     """A model has more possible state sets than are compiled ahead of time."""
-
-
-# the output every structurally zero entry of a monitored level's Jacobian reads (at chain N = 32,
-# 1,920 of its 2,048 entries, each its own output before: 2,780 -> 861 outputs per state set)
-PIVOT_ZERO = "__pivot_zero"
 
 
 @dataclass
@@ -65,22 +57,8 @@ def build_variant(flat: FlatSystem, analysis: Analysis, point: dict[str, float] 
     public = list(reduced.output_names)
     known = set(public)
     internal = [n for n in system.names if n not in known]
-    pivots: list[Assignment] = []
-    layouts = []
-    for level, rows, candidates, chosen in monitored_levels(flat, analysis, report):
-        entries = []                # per entry of the level's Jacobian, row-major: its pivot output
-        for i, e in enumerate(rows):
-            occurring = set(system.incidence[e])
-            for j, v in enumerate(candidates):
-                derivative = partial(system.equations[e], system.symbols[v]) if v in occurring else 0
-                if derivative == 0:
-                    entries.append(None)            # structurally zero: one shared zero output
-                else:
-                    entries.append(len(pivots))
-                    pivots.append(Assignment(f"__pivot{level}[{i},{j}]", derivative))
-        layouts.append((rows, candidates, chosen, entries))
-    if any(None in entries for *_, entries in layouts):
-        pivots.append(Assignment(PIVOT_ZERO, sympy.Integer(0)))
+    watched = monitored_levels(flat, analysis, report)
+    pivots, layouts = pivot_outputs(system, watched)
     # every level's Jacobian over all its possible candidates: the runtime makes the choice again
     priority = choice_priority(analysis)
     levels = selection_levels(system, priority)
@@ -94,19 +72,10 @@ def build_variant(flat: FlatSystem, analysis: Analysis, point: dict[str, float] 
     model = model.replace(state_sets=[_state_set(rows, cands, chosen,
                                                  [zero if k is None else offset + k for k in entries],
                                                  system.names, priority)
-                                      for rows, cands, chosen, entries in layouts],
+                                      for (_, rows, cands, chosen), entries in zip(watched, layouts)],
                           metadata={**model.metadata, DUMMIES: dummies,
-                                    SELECTION: _with_folds(system, levels, selection_metadata(system, levels, public))})
+                                    SELECTION: selection_metadata(system, levels, public)})
     return Variant(tuple(monitored.states), monitored, model, report, public)
-
-
-def _with_folds(system, levels, layout: dict) -> dict:
-    """The runtime's layout with each level's alias folds as [row, u, w] (names)."""
-    names = system.names
-    return {**layout, "levels": [
-        {**plain, "folds": [[i, names[u], names[w]]
-                            for i, u, w in alias_folds(system, level.rows, level.order, level.priority.get)]}
-        for plain, level in zip(layout["levels"], levels)]}
 
 
 def _state_set(rows: list[int], candidates: list[int], chosen: list[int], entries: list[int],

@@ -67,9 +67,9 @@ def folded_level(rows: Sequence, candidates: Sequence[Column], chosen: Sequence[
     fold_rows = {row for row, _, _ in folds}
     folded_out = set(partner.values())
     taken = set(chosen)
+    kept = [c for c in chosen if c not in folded_out and (c not in partner or partner[c] in taken)]
     return FoldedLevel([r for r in rows if r not in fold_rows],
-                       [c for c in candidates if c not in folded_out],
-                       [c for c in chosen if c not in folded_out and (c not in partner or partner[c] in taken)])
+                       [c for c in candidates if c not in folded_out], kept)
 
 
 def propagating(chosen: Sequence[Column], partner: Mapping[Column, Column]) -> list[Column]:

@@ -1,10 +1,10 @@
 """Switching among the state-set variants a compiled model carries (`CompiledModel.variants`).
 
-Every state set a run can reach is derived once, at compile time (compiler/structure/state_selection/enumeration.py),
-and travels with the model; where the current set degrades, the run continues in the variant whose
-dummy derivatives the numerical choice selects at that point. The choice is the compiler's own
-dummy-derivative selection made again here, with the runtime only (the rules both use are in
-selection_rules.py):
+Every state set a run can reach is derived once, at compile time
+(compiler/structure/state_selection/enumeration.py), and travels with the model; where the current
+set degrades, the run continues in the variant whose dummy derivatives the numerical choice selects
+at that point. The choice is the compiler's own dummy-derivative selection made again here, with
+the runtime only (the rules both use are in selection_rules.py):
 
 Level by level, from the most-differentiated constraints down, pivoting (`pivoted_columns`) over the
 level's Jacobian with respect to its candidate derivatives picks as many columns as the level has
@@ -41,8 +41,8 @@ def dummy_choice(levels: Sequence[Mapping], values: Mapping[str, float]) -> froz
     A level is {"rows": n, "order": candidate names in the compiler's order of preference,
     "priority": {name: state priority}, "next": {name: its candidate on the next level}, "folds":
     [[row, u, w], ...] its alias rows (compiler/structure/state_selection/folds.py; a fold counts
-    where u and w are both candidates)}; the first level's candidates are all of its `order`. An entry without
-    an output is structurally zero."""
+    where u and w are both candidates)}; the first level's candidates are all of its `order`. An
+    entry without an output is structurally zero."""
     candidates = set(levels[0]["order"]) if levels else set()
     dummies: list[str] = []
     given = _selection_entries(values)
@@ -102,9 +102,10 @@ def variant_models(model: CompiledModel) -> dict[frozenset, CompiledModel]:
 
 class VariantSwitcher:
     """The runtime's StateSetSwitcher for a model that carries its variants: at the switch point,
-    the variant of the dummy derivatives `dummy_choice` selects. `fallback` (a StateSetSwitcher, say
-    the compiler's lazy one) is asked for a choice that is none of the variants, which can happen
-    only where a parameter value changed a choice the compiler took as constant."""
+    the variant of the dummy derivatives `dummy_choice` selects. `fallback` (another
+    StateSetSwitcher) is asked for a choice that is none of the variants, which can happen only
+    where a parameter value changed a choice the compiler took as constant; without one the run
+    stops there with SimulationFailed."""
 
     def __init__(self, model: CompiledModel, fallback=None):
         selection = model.metadata.get(SELECTION)

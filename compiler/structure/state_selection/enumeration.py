@@ -21,7 +21,8 @@ from typing import TYPE_CHECKING, Iterator
 import numpy as np
 import sympy
 
-from compiler.runtime.selection_rules import folded_level, level_choice, next_candidates, present_folds, priority_classes
+from compiler.runtime.selection_rules import (folded_level, level_choice, next_candidates, present_folds,
+                                              priority_classes)
 from compiler.structure.differentiate import partial
 from compiler.structure.indexed import IndexedSystem
 from compiler.structure.state_selection.folds import alias_folds, plain_number, unfolded
@@ -65,13 +66,15 @@ def possible_choices(flat: FlatSystem, system: IndexedSystem, levels: list[Selec
         level = levels[k]
         folds = present_folds(folds_of[k], candidates)
         partner = {u: w for _, u, w in folds}
-        level_folded = folded_level(range(len(level.rows)), [v for v in level.order if v in candidates], [], folds)
+        offered = [v for v in level.order if v in candidates]
+        level_folded = folded_level(range(len(level.rows)), offered, [], folds)
         rows = [level.rows[i] for i in level_folded.rows]
         order = level_folded.candidates
         folded = dataclasses.replace(level, rows=tuple(rows))
         fixed, rest = _constant_prefix_choice(system, folded, order, constant)
         fixed, rest = _independent_classes(system, folded, fixed, rest)
-        for subset in regular_subsets(row_positions(system, rows), fixed, rest, len(rows) - len(fixed), spend):
+        positions = row_positions(system, rows)
+        for subset in regular_subsets(positions, fixed, rest, len(rows) - len(fixed), spend):
             chosen = unfolded(fixed + list(subset), folds)
             yield from walk(k + 1, next_candidates(chosen, partner, level.next), dummies + tuple(chosen))
     if levels:

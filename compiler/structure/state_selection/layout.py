@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Callable
 from compiler.runtime.variants import selection_output
 from compiler.structure.differentiate import partial
 from compiler.structure.dummy_derivatives import base_variable, candidate_order, first_level, next_rows
+from compiler.structure.state_selection.folds import alias_folds
 from compiler.structure.indexed import IndexedSystem
 from compiler.structure.reduced import Assignment
 
@@ -81,10 +82,13 @@ def selection_assignments(system: IndexedSystem, levels: list[SelectionLevel]) -
 
 
 def selection_metadata(system: IndexedSystem, levels: list[SelectionLevel], public: list[str]) -> dict:
-    """The runtime's plain form of the layout (CompiledModel.metadata[variants.SELECTION])."""
+    """The runtime's plain form of the layout (CompiledModel.metadata[variants.SELECTION]), with
+    each level's alias folds as [row, u, w] (folds.py)."""
     names = system.names
     return {"public": list(public),
             "levels": [{"rows": len(level.rows), "order": [names[v] for v in level.order],
                         "priority": {names[v]: int(level.priority[v]) for v in level.order},
-                        "next": {names[v]: names[w] for v, w in sorted(level.next.items())}}
+                        "next": {names[v]: names[w] for v, w in sorted(level.next.items())},
+                        "folds": [[i, names[u], names[w]] for i, u, w in
+                                  alias_folds(system, level.rows, level.order, level.priority.get)]}
                        for level in levels]}

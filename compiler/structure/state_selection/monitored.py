@@ -16,12 +16,17 @@ import sympy
 
 from compiler.runtime.selection_rules import folded_level, may_degrade, next_candidates, present_folds
 from compiler.structure.differentiate import partial
+from compiler.structure.reduced import Assignment
 from compiler.structure.state_selection.folds import alias_folds
 from compiler.structure.state_selection.layout import choice_priority, selection_levels
 
 if TYPE_CHECKING:
     from compiler.model.flat import FlatSystem
     from compiler.structure.reduce import Analysis, StructureReport
+
+# the output every structurally zero entry of a monitored level's Jacobian reads (at chain N = 32,
+# 1,920 of its 2,048 entries)
+PIVOT_ZERO = "__pivot_zero"
 
 
 def monitored_levels(flat: FlatSystem, analysis: Analysis, report: StructureReport) -> list[tuple]:
@@ -45,6 +50,29 @@ def monitored_levels(flat: FlatSystem, analysis: Analysis, report: StructureRepo
         if may_degrade(len(rows), candidates, chosen, {v: priority(v) for v in candidates}, pairs, varies):
             levels.append((level, rows, candidates, chosen))
     return levels
+
+
+def pivot_outputs(system, monitored: list[tuple]) -> tuple[list[Assignment], list[list[int | None]]]:
+    """The outputs that hold the Jacobians of the `monitored` levels (monitored_levels): one per
+    structurally non-zero entry, and PIVOT_ZERO last where some entry is zero; and per level its
+    entries (row-major) as positions in those outputs, None for a zero entry (PIVOT_ZERO)."""
+    pivots: list[Assignment] = []
+    layouts = []
+    for level, rows, candidates, _ in monitored:
+        entries: list[int | None] = []
+        for i, e in enumerate(rows):
+            occurring = set(system.incidence[e])
+            for j, v in enumerate(candidates):
+                derivative = partial(system.equations[e], system.symbols[v]) if v in occurring else 0
+                if derivative == 0:
+                    entries.append(None)            # structurally zero: one shared zero output
+                else:
+                    entries.append(len(pivots))
+                    pivots.append(Assignment(f"__pivot{level}[{i},{j}]", derivative))
+        layouts.append(entries)
+    if any(None in entries for entries in layouts):
+        pivots.append(Assignment(PIVOT_ZERO, sympy.Integer(0)))
+    return pivots, layouts
 
 
 def folded_levels(analysis: Analysis, report: StructureReport) -> list[tuple[list, list, list]]:
