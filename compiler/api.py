@@ -46,16 +46,11 @@ def simulate_compiled(compilation: Compilation | CachedCompilation, stop: float,
     options = runtime.SimulationOptions(stop=stop, **arguments)
     if not hasattr(compilation, "flat"):
         return _simulate_cached(compilation, options, stop, arguments)
-    switcher = None
-    # else the model's own variants, or those made from its universal system (runtime/universal.py:
-    # the same in-process, from the cache, in generated code and in sweep workers)
-    if compilation.dynamic and not compilation.model.variants and compilation.model.universal is None:
-        from compiler.lower.state_set_variants import Switcher
-        switcher = Switcher(compilation.flat, compilation.analysis, compilation.variant,
-                            compilation.model)
+    # a model switches among its own variants, or those made from its universal system
+    # (runtime/universal.py: the same in-process, from the cache, in generated code and in sweep workers)
     from compiler.model.run_checks import checked_run       # missing parameter values, singular start
     with checked_run(compilation, params, start), runtime_errors(compilation.reduced, compilation.flat):
-        result = runtime.simulate(compilation.model, options=options, switcher=switcher)
+        result = runtime.simulate(compilation.model, options=options)
     return _with_compile_times(result, compilation.timings)
 
 

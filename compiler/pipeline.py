@@ -55,9 +55,9 @@ def flatten_spec(spec: str, lib_dirs: Sequence[str] = (), *,
 
 @fewer_collections()
 def compile_flat(flat: FlatSystem, timings: dict[str, float] | None = None) -> Compilation:
-    from compiler.lower.state_set_enumeration import with_variants
+    from compiler.lower.state_set_variants import build_variant, with_variants
     from compiler.lower.universal_variant import with_universal
-    from compiler.lower.state_set_variants import build_variant, monitored_levels
+    from compiler.structure.state_selection.monitored import monitored_levels
     from compiler.lower.to_casadi import lower
     from compiler.model.model_check import require_standalone
     from compiler.structure.reduce import StructureReport, analyse, reduce

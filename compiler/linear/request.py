@@ -122,7 +122,7 @@ def _linearize(compiled: LinearCompilation, request: Request, inputs: Sequence[s
     p = model.parameter_vector({**dict(request.params), **dict(request.op)})
     point = initial_point(model, p)
     if request.at is not None:
-        point = point_of_run(model, p, _run(compiled, request), _switcher(compiled))
+        point = point_of_run(model, p, _run(compiled, request))
     if request.steady:
         point = steady_point(point)
     system = linearize_at(point, list(inputs), list(outputs), labels)
@@ -154,13 +154,4 @@ def _run(compiled: LinearCompilation, request: Request):
     from compiler.api import simulate_compiled
     overrides = {**dict(request.params), **dict(request.op)}
     return simulate_compiled(compiled.compilation, float(request.at), points=2, params=overrides or None)
-
-
-def _switcher(compiled: LinearCompilation):
-    compilation = compiled.compilation
-    model = compilation.model
-    if getattr(compilation, "dynamic", False) and not model.variants and model.universal is None:
-        from compiler.lower.state_set_variants import Switcher
-        return Switcher(compilation.flat, compilation.analysis, compilation.variant, model)
-    return None
 
