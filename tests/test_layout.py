@@ -10,7 +10,7 @@ import compiler
 PACKAGE = Path(compiler.__file__).resolve().parent
 STAGES = {"syntax", "julia", "model", "structure", "lower", "runtime", "testing", "render", "sweep", "components",
           "analysis", "cache", "linear", "cli"}
-ON_TOP = {"__init__", "__main__", "api", "errors", "pipeline", "simulate"}
+ON_TOP = {"__init__", "__main__", "api", "compiled_runs", "errors", "pipeline", "simulate"}
 
 
 def module_name(path: Path) -> str:

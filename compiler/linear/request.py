@@ -151,7 +151,7 @@ def _outputs(compiled: LinearCompilation, request: Request) -> tuple[list[str], 
 
 
 def _run(compiled: LinearCompilation, request: Request):
-    from compiler.api import simulate_compiled
+    from compiler.compiled_runs import simulate_compiled
     overrides = {**dict(request.params), **dict(request.op)}
     return simulate_compiled(compiled.compilation, float(request.at), points=2, params=overrides or None)
 
