@@ -12,7 +12,7 @@ import sympy
 from compiler.model.balance import check_balance, component_balance  # noqa: F401  (public API)
 from compiler.errors import DyadError, Note, Span
 from compiler.model.expressions import EvalScope, MissingValue, Mode, evaluate, is_array, \
-    iteration_values, shape_of, structural_bool, structural_int, switch_branch, _num
+    iteration_values, shape_of, structural_bool, structural_int, switch_branch, numeric
 from compiler.model.flat import ALGEBRAIC, INPUT, OUTPUT, STATE_CANDIDATE, Equation, FlatSystem, \
     Origin, Parameter, Variable
 from compiler.model.flatten_connect import ConnectionGraph, connection_equations
@@ -152,8 +152,8 @@ class Flattener:
 
     def _equation(self, relation: ast.Equation, scope: EvalScope) -> None:
         span = relation.span
-        lhs = _num(evaluate(relation.lhs, scope, Mode.SYMBOLIC), span)
-        rhs = _num(evaluate(relation.rhs, scope, Mode.SYMBOLIC), span)
+        lhs = numeric(evaluate(relation.lhs, scope, Mode.SYMBOLIC), span)
+        rhs = numeric(evaluate(relation.rhs, scope, Mode.SYMBOLIC), span)
         if shape_of(lhs) != shape_of(rhs):
             raise DyadError(f"array size mismatch in equation: left side has size "
                             f"{shape_of(lhs) or 'scalar'}, right side {shape_of(rhs) or 'scalar'}",
@@ -205,7 +205,7 @@ class Flattener:
     def _set_numeric_attribute(self, store: dict, target: Any, expr: ast.Expr, scope: EvalScope,
                                span: Span | None, what: str) -> None:
         try:
-            value = _num(evaluate(expr, scope, Mode.NUMERIC), span)
+            value = numeric(evaluate(expr, scope, Mode.NUMERIC), span)
         except MissingValue as missing:
             self.warnings.append(f"{span}: {what} ignored: parameter `{missing.name}` has no value")
             return
@@ -229,14 +229,14 @@ class Flattener:
     def _variable_equations(self, variable: VariableInstance) -> None:
         if variable.binding is not None:
             expr, scope, span = variable.binding
-            value = _num(evaluate(expr, scope, Mode.SYMBOLIC), span)
+            value = numeric(evaluate(expr, scope, Mode.SYMBOLIC), span)
             self._bind(variable, value, Origin(scope.node.path, span), span, "binding",
                        self.equations)
         attributes = variable.attributes
         if "initial" in attributes:
             expr, scope = attributes["initial"]
             span = getattr(expr, "span", None) or variable.span
-            value = _num(evaluate(expr, scope, Mode.SYMBOLIC), span)
+            value = numeric(evaluate(expr, scope, Mode.SYMBOLIC), span)
             self._bind(variable, value, Origin(scope.node.path, span), span, "equation",
                        self.initial)
             for name, number in zip(variable.names, self._broadcast(variable, value, span)):

@@ -17,7 +17,7 @@ import sympy
 
 from compiler.errors import DyadError, Note, Span, suggest_name
 from compiler.model.expressions import CONDITION_TYPES, NOT_FOUND, EvalScope, Lexical, MissingValue, Mode, evaluate, \
-    is_array, shape_of, structural_bool, structural_int, iteration_values, _num
+    is_array, shape_of, structural_bool, structural_int, iteration_values, numeric
 from compiler.model.flat import der_name
 from compiler.model import object_values, replaceable, structs
 from compiler.model.library import PRIMITIVE_TYPES, Library, Resolved
@@ -335,7 +335,7 @@ class ParameterInstance:
                 raise DyadError(f"parameter `{self.path}` is a String but its value is not",
                                 expr.span)
             return raw
-        value = _num(raw, expr.span)
+        value = numeric(raw, expr.span)
         self._check_shape(value, expr.span)
         return _numeric(value, expr.span, self.path)
 
@@ -355,7 +355,7 @@ class ParameterInstance:
                 value = evaluate(expr, scope, Mode.SYMBOLIC)
                 if self.type.primitive == "Boolean":
                     value = _boolean_as_number(value, expr.span)
-                value = _num(value, expr.span)
+                value = numeric(value, expr.span)
                 self._check_shape(value, expr.span)
                 for sym in (value.ravel() if is_array(value) else [value]):
                     unknowns = [s.name for s in getattr(sym, "free_symbols", ())
