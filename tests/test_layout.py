@@ -9,7 +9,7 @@ import compiler
 
 PACKAGE = Path(compiler.__file__).resolve().parent
 STAGES = {"syntax", "julia", "model", "structure", "lower", "runtime", "testing", "render", "sweep", "components",
-          "analysis", "cache"}
+          "analysis", "cache", "linear"}
 ON_TOP = {"__init__", "__main__", "api", "cli", "cli_options", "cli_outputs", "cli_simulate", "cli_source",
           "cli_studies", "errors", "inspect_report", "pipeline", "simulate"}
 
