@@ -1,10 +1,11 @@
 """AST expressions -> sympy values, inside an instance scope (compiler/model/eval_scope.py: the
 scope and the three evaluation modes; eval_values.py: what a value is).
 
-`evaluate` dispatches on the node type; operators compute with compiler/model/arithmetic.py,
-calls go to the one table of built-ins (builtins.py), then to the registry of object calls
-(object_calls.py), then to the library's functions. Enum members and `switch` relations are
-resolved here as well, since they read the library through the scope.
+`evaluate` dispatches on the node type: references and indices are resolved here; operators
+compute with arithmetic.py; arrays are built by eval_arrays.py; calls go to the one table of
+built-ins (builtins.py), then to the registry of object calls (object_calls.py), then to the
+library's functions; enum members and `switch` cases come from enums.py. The modules it
+dispatches to receive `evaluate` as an argument and never import this one.
 """
 from __future__ import annotations
 
@@ -14,16 +15,15 @@ import numpy as np
 import sympy
 
 from compiler.errors import DyadError, Span, suggest_name
-from compiler.model import object_calls
-from compiler.model.arithmetic import COMPARISONS, INTEGER_OPERATORS, arith, integer_operator, stack
+from compiler.model import eval_arrays, object_calls
+from compiler.model.arithmetic import COMPARISONS, INTEGER_OPERATORS, arith, integer_operator
 from compiler.model.builtins import builtin
+from compiler.model.enums import enum_member_value, selected_case
 from compiler.model.eval_scope import END_BINDING, NOT_FOUND, DerivativeTracker, EvalScope, \
     FunctionBodyNode, Lexical, MissingValue, Mode, Node
 from compiler.model.eval_values import CONDITION_TYPES, is_node_array, is_node_like, numeric, \
     piecewise, shape_of, structural_bool, structural_int, time_derivative, time_invariant, to_bool
-from compiler.model.functions import FunctionCallError, FunctionImpl, as_array, is_array
-from compiler.model.ranges import float_range, is_fractional
-from compiler.model.size_limits import check_elements, range_length
+from compiler.model.functions import FunctionCallError, FunctionImpl, is_array
 from compiler.syntax import ast
 
 __all__ = ["CONDITION_TYPES", "END_BINDING", "NOT_FOUND", "DerivativeTracker", "EvalScope",
@@ -33,7 +33,6 @@ __all__ = ["CONDITION_TYPES", "END_BINDING", "NOT_FOUND", "DerivativeTracker", "
            "structural_int", "switch_branch", "time_derivative", "time_invariant", "to_bool"]
 
 
-# ------------------------------------------------------------------------------------ evaluator
 def evaluate(expr: ast.Expr, scope: EvalScope, mode: Mode) -> Any:
     handler = _HANDLERS.get(type(expr))
     if handler is None:
@@ -138,27 +137,7 @@ def _check_bounds(position: int, size: int, name: str, span: Span | None) -> Non
 
 def iteration_values(expr: ast.Expr, scope: EvalScope) -> list[Any]:
     """The values a `for` iterator runs through (structural)."""
-    value = evaluate(expr, scope, Mode.STRUCTURAL)
-    if is_array(value):
-        return list(value.ravel())
-    raise DyadError("a `for` loop needs a range or an array to iterate over",
-                    getattr(expr, "span", None))
-
-
-def _range(expr: ast.Range, scope: EvalScope, mode: Mode) -> Any:
-    bounds = [None if part is None else evaluate(part, scope, Mode.STRUCTURAL)
-              for part in (expr.start, expr.step, expr.stop)]
-    if any(is_fractional(bound) for bound in bounds):      # `0:0.1:1`: Julia's float range
-        return as_array(float_range(*bounds, expr.span))
-    start = structural_int(bounds[0], expr.span, "a range bound")
-    stop = structural_int(bounds[2], expr.span, "a range bound")
-    step = 1
-    if expr.step is not None:
-        step = structural_int(bounds[1], expr.span, "a range step")
-        if step == 0:
-            raise DyadError("a range step cannot be zero", expr.span)
-    check_elements(range_length(start, stop, step), expr.span, "this range")
-    return as_array([sympy.Integer(i) for i in range(start, stop + (1 if step > 0 else -1), step)])
+    return eval_arrays.iteration_values(expr, scope, evaluate)
 
 
 def _unary(expr: ast.UnaryOp, scope: EvalScope, mode: Mode) -> Any:
@@ -238,41 +217,6 @@ def _if(expr: ast.IfExpr, scope: EvalScope, mode: Mode) -> Any:
                       numeric(evaluate(expr.otherwise, scope, mode), expr.span), expr.span)
 
 
-def _array_lit(expr: ast.ArrayLit, scope: EvalScope, mode: Mode) -> Any:
-    if expr.is_matrix:
-        rows = []
-        for row in expr.elements:
-            items = row.elements if isinstance(row, ast.ArrayLit) else (row,)
-            values = []
-            for item in items:
-                v = numeric(evaluate(item, scope, mode), expr.span)
-                values.extend(v.ravel().tolist() if is_array(v) else [v])
-            rows.append(values)
-        if len({len(r) for r in rows}) > 1:
-            raise DyadError("the rows of a matrix literal have different lengths", expr.span)
-        out = np.empty((len(rows), len(rows[0]) if rows else 0), dtype=object)
-        for i, r in enumerate(rows):
-            for j, v in enumerate(r):
-                out[i, j] = v
-        return out
-    values = [numeric(evaluate(e, scope, mode), expr.span) for e in expr.elements]
-    return stack(values, expr.span)
-
-
-def _comprehension(expr: ast.Comprehension, scope: EvalScope, mode: Mode) -> Any:
-    def expand(level: int, inner: EvalScope, outer: int) -> Any:
-        if level == len(expr.iterators):
-            return numeric(evaluate(expr.expr, inner, mode), expr.span)
-        it = expr.iterators[level]
-        values = iteration_values(it.iterable, inner)
-        # nested iterators multiply: each level's range may be small, their product not
-        check_elements(outer * len(values), expr.span, "this comprehension")
-        items = [expand(level + 1, inner.bind(**{it.variable: v}), outer * len(values))
-                 for v in values]
-        return stack(items, expr.span)
-    return expand(0, scope, 1)
-
-
 def _call(expr: ast.Call, scope: EvalScope, mode: Mode) -> Any:
     name, span = expr.function, expr.span
     entry = builtin(name)
@@ -308,54 +252,12 @@ def _call(expr: ast.Call, scope: EvalScope, mode: Mode) -> Any:
         raise DyadError(f"bad arguments for `{name}`: {exc}", span) from exc
 
 
-def enum_member_value(qualified_member: str, lexical: Lexical, span: Span | None) -> Any:
-    """`Gear.High` (or `Pkg.Gear.High`) as its 1-based position among the members of enum `Gear`;
-    None when the prefix names no enum."""
-    enum_name, _, member = qualified_member.rpartition(".")
-    if not enum_name:
-        return None
-    found = lexical.library.lookup(enum_name, lexical.package, lexical.file)
-    if found is None or not isinstance(found.definition, ast.EnumDef):
-        return None
-    members = found.definition.members
-    if member not in members:
-        raise DyadError(f"enum `{enum_name}` has no member `{member}`", span,
-                        hint=suggest_name(member, list(members)))
-    return sympy.Integer(members.index(member) + 1)
-
-
 def switch_branch(relation: ast.Switch, scope: EvalScope) -> tuple:
     """The relations of the case of `switch subject` that the subject's structural value selects
     (its `else` when no case names it)."""
     value = structural_int(evaluate(relation.subject, scope, Mode.STRUCTURAL), relation.span,
                            "a switch subject")
-    enum_name = _subject_enum(relation.subject, scope)
-    for case in relation.cases:
-        for name in case.names:
-            qualified = name if "." in name else f"{enum_name}.{name}" if enum_name else None
-            index = enum_member_value(qualified, scope.lexical, case.span) if qualified else None
-            if index is None:
-                raise DyadError(f"cannot tell which enum `{name}` belongs to", case.span,
-                                hint="switch on a parameter declared with an enum type, or write "
-                                     "the case as `EnumName.Member`")
-            if int(index) == value:
-                return case.body
-    return relation.otherwise
-
-
-def _subject_enum(subject: ast.Expr, scope: EvalScope) -> str | None:
-    """The qualified enum type of a switch subject that names a parameter, else None."""
-    if not isinstance(subject, ast.Ref) or any(p.indices for p in subject.parts):
-        return None
-    node = scope.node
-    for part in subject.parts[:-1]:
-        node = node.member(part.name, Mode.STRUCTURAL, subject.span)
-        if not is_node_like(node):
-            return None
-    parameter = getattr(node, "parameters", {}).get(subject.parts[-1].name)
-    type_name = getattr(getattr(parameter, "type", None), "name", None)
-    found = scope.lexical.library.find(type_name) if type_name else None
-    return type_name if found is not None and isinstance(found.definition, ast.EnumDef) else None
+    return selected_case(relation, scope, value)
 
 
 def _julia_call(function: Any, args: list, expr: ast.Call, scope: EvalScope, mode: Mode) -> Any:
@@ -364,9 +266,21 @@ def _julia_call(function: Any, args: list, expr: ast.Call, scope: EvalScope, mod
                                lambda body, inner: evaluate(body, inner, mode))
 
 
+def _range(expr: ast.Range, scope: EvalScope, mode: Mode) -> Any:
+    return eval_arrays.range_value(expr, scope, mode, evaluate)
+
+
+def _array_literal(expr: ast.ArrayLit, scope: EvalScope, mode: Mode) -> Any:
+    return eval_arrays.array_literal(expr, scope, mode, evaluate)
+
+
+def _comprehension(expr: ast.Comprehension, scope: EvalScope, mode: Mode) -> Any:
+    return eval_arrays.comprehension(expr, scope, mode, evaluate)
+
+
 _HANDLERS = {
     ast.Number: _number, ast.String: _string, ast.Boolean: _boolean, ast.End: _end,
     ast.Colon: _colon, ast.Ref: _ref, ast.Range: _range, ast.UnaryOp: _unary,
-    ast.BinaryOp: _binary, ast.IfExpr: _if, ast.ArrayLit: _array_lit,
+    ast.BinaryOp: _binary, ast.IfExpr: _if, ast.ArrayLit: _array_literal,
     ast.Comprehension: _comprehension, ast.Call: _call,
 }
