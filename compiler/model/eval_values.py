@@ -23,7 +23,6 @@ from compiler.model.functions import is_array
 CONDITION_TYPES = (Relational, BooleanFunction, BooleanAtom)
 
 
-# ------------------------------------------------------------------------------------- helpers
 def is_node_like(value: Any) -> bool:
     return hasattr(value, "member") and hasattr(value, "path")
 
