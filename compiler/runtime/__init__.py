@@ -10,6 +10,7 @@ Public API (docs/runtime.md):
   SimulationFailed, InitializationFailed, SimulationInterrupted, ModelInputError
 """
 from .run_state import StateSetSwitcher
+from .driver import simulate
 from .errors import (InitializationFailed, ModelInputError, SimulationFailed, SimulationInterrupted,
                      did_you_mean)
 from .initialization import consistent_initialization
@@ -18,7 +19,6 @@ from .options import SimulationOptions
 from .outputs import evaluate_outputs, polish_algebraics
 from .result import Result
 from .state_sets import SWITCH_RATIO, pivoted_columns, state_selection_quality
-from .universal import simulate
 from .variants import VariantSwitcher
 
 __all__ = ["CompiledModel", "FORMAT_VERSION", "InitializationFailed", "ModelInputError", "Result",

@@ -20,7 +20,6 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from . import driver
 from .errors import SimulationFailed
 from .model import CompiledModel
 from .state_sets import pivoted_columns
@@ -97,14 +96,6 @@ def propagating(chosen: Sequence[str], partner: Mapping[str, str]) -> list[str]:
     only where its w is chosen too (x and vx are dummies together, as if vx were der(x))."""
     taken = set(chosen)
     return [c for c in chosen if c not in partner or partner[c] in taken]
-
-
-def simulate(model: CompiledModel, stop: float | None = None, *, switcher=None, **settings):
-    """The driver's simulate (driver.simulate: same arguments); a model that carries its state-set
-    variants switches among them unless the caller gives another switcher."""
-    if switcher is None and model.variants:
-        switcher = VariantSwitcher(model)
-    return driver.simulate(model, stop, switcher=switcher, **settings)
 
 
 def variant_models(model: CompiledModel) -> dict[frozenset, CompiledModel]:
