@@ -189,3 +189,8 @@ def test_an_integrator_that_finds_crossings_is_called_to_each_segment_end():
 
 def test_every_kind_of_stop_has_a_handler():
     assert set(HANDLERS) == {REACHED, UNCONFIRMED, FAILED, "bound", "event", "state set"}
+
+
+def test_a_model_with_one_state_set_runs_without_a_switcher():
+    from compiler.runtime import default_switcher
+    assert default_switcher(lower(draining())) is None
