@@ -70,9 +70,7 @@ class RunState:
         self.integrators: dict[tuple, tuple] = {}
         self.parameter_vectors: dict[int, np.ndarray] = {}    # per state set, read-only
         self.pending: dict[int, tuple] = {}
-        self.forced_ends: set[float] = set()
-        self.retry: tuple | None = None
-        self.t = options.start
+        self.forced_ends: set[float] = set()     # ends of calls cut before a failure
         # how far one IDAS call reaches in a model with state sets (crossings.next_horizon)
         self.horizon = (options.stop - options.start) / INITIAL_CHUNKS
         # an indicator that hovers near zero without crossing must not shrink the calls for ever
@@ -84,6 +82,7 @@ class RunState:
         # where the run is: the model (state set) it integrates with parameters p, the point
         # (t, x, z), the states' scales, the next output index and the next segment end
         self.model = model
+        self.t = options.start
         self.p = self.x = self.z = self.scale = None
         self.k = 1
         self.end_index = 0

@@ -194,3 +194,12 @@ def test_every_kind_of_stop_has_a_handler():
 def test_a_model_with_one_state_set_runs_without_a_switcher():
     from compiler.runtime import default_switcher
     assert default_switcher(lower(draining())) is None
+
+
+def test_a_bound_counts_when_left_and_a_state_event_both_ways(tmp_path):
+    from compiler.runtime.crossings import root_directions
+    from compiler.runtime.watches import build_watch
+    path = tmp_path / "Torricelli.dyad"
+    path.write_text(f"component Torricelli\n{TANK}\nend\n", encoding="utf-8")
+    assert root_directions(build_watch(lower(draining()))).tolist() == [-1]
+    assert root_directions(build_watch(api.compile(str(path)).model)).tolist() == [0]
