@@ -89,8 +89,8 @@ def _simulate(args, background: list) -> int:
     check_simulate_outputs(args.output, args.plot)
     compilation = compile_or_load(args.model, args.lib, cache=not args.no_cache)
     from compiler.pipeline import start_notes    # under-determined: what was chosen
-    for note in start_notes(compilation):
-        print(f"note: {note}", file=sys.stderr)
+    for line in start_notes(compilation):
+        print(line, file=sys.stderr)
     model = compilation.model
     options.check_output_size(times, len(model.output_names), limit, f"{times:,} output times of {model.name}")
     units = model.metadata.get("units", {})
