@@ -48,6 +48,7 @@ def simulate(model: CompiledModel, stop: float | None = None, *, options: Simula
     options = options.validated()
     run = RunState(model, options, switcher)
     p = model.parameter_vector(options.params)
+    run.parameters = model.named_parameters(p)
     run.ends = segment_ends(model, p, options)
     p = with_clock(model, p, options.start, run.ends[0])
     stats: dict = {"compile_time": model.compile_time}
@@ -99,7 +100,7 @@ def _result(run: RunState, model: CompiledModel, n: int, stats: dict) -> Result:
     units = model.metadata.get("units") or {}
     return Result(run.grid[:n], run.public, run.values[:, :n], stats, model.name,
                   units={name: units[name] for name in run.public if name in units},
-                  events=run.events, switches=run.switches)
+                  events=run.events, switches=run.switches, parameters=run.parameters)
 
 
 def _partial_result(run: RunState, model: CompiledModel) -> Result | None:
@@ -250,7 +251,10 @@ def _integrate(run: RunState, model: CompiledModel, p: np.ndarray, point, progre
             run.ignored.add(watch.labels[row])
             x, z = x_cross, z_cross
         elif kind == "event":
-            run.events.append({"time": float(t_cross), "event": what})
+            # rising: the condition's left side minus its right side went from below zero to above
+            before = float(np.asarray(watch.function(x_left, z_left, p, t_left))[row, 0])
+            run.events.append({"time": float(t_cross), "event": what,
+                               "direction": "rising" if before <= 0 else "falling"})
             stuck = sliding(model, run.events)        # a sliding mode (relations.py)
             if stuck is not None:
                 raise stuck
