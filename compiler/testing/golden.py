@@ -13,6 +13,7 @@ with them is refused.
 from __future__ import annotations
 
 import os
+import shlex
 import sys
 import time
 from typing import Sequence
@@ -107,10 +108,19 @@ def _compared_names(case: TestCase) -> list[str]:
     return list(dict.fromkeys(list(case.signals) + list(case.expect_initial) + list(case.final)))
 
 
+def accept_command(spec: str, lib_dirs: Sequence[str], golden_dir: str | os.PathLike) -> str:
+    """The `dyadc test ... --accept` command that writes the goldens of `spec`, quoted for a POSIX
+    shell, with the user's -L folders: it runs as printed."""
+    words = ["dyadc", "test", spec, *[w for folder in lib_dirs for w in ("-L", os.fspath(folder))],
+             "--golden", os.fspath(golden_dir), "--accept"]
+    return " ".join(shlex.quote(word) for word in words)
+
+
 def run_case(compilation, case: TestCase, golden_dir: str | os.PathLike,
-             spec: str | None = None) -> CaseReport:
+             spec: str | None = None, lib_dirs: Sequence[str] = ()) -> CaseReport:
     """Simulate at the case's tolerance and compare with its golden in `golden_dir`. Never writes
-    anything. `spec` is how the user named the model (for the hint on a missing golden)."""
+    anything. `spec` and `lib_dirs` are how the user named the model (for the hint on a missing
+    golden)."""
     report = CaseReport(case)
     began = time.perf_counter()
     path = golden_path(golden_dir, case)
@@ -118,7 +128,7 @@ def run_case(compilation, case: TestCase, golden_dir: str | os.PathLike,
         if not os.path.isfile(path):
             raise DyadError(f"no golden file {path}", case.span,
                             hint=f"create it explicitly (after checking the model independently): "
-                                 f"dyadc test {spec or case.model} --golden {golden_dir} --accept")
+                                 f"{accept_command(spec or case.model, lib_dirs, golden_dir)}")
         golden = read_golden(path)
         result, notes = _simulate(compilation, case, case.rtol)
         report.notes.extend(notes)
@@ -226,7 +236,7 @@ def run_tests(model_spec: str | None, lib_dirs: Sequence[str] = (), *,
             if accept:
                 report = accept_case(compilation, case, golden_dir)
             else:
-                report = run_case(compilation, case, golden_dir, spec)
+                report = run_case(compilation, case, golden_dir, spec, lib_dirs)
             print(report.format(verbose=not accept), file=out, flush=True)
             reports.append(report)
     return reports
