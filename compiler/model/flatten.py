@@ -467,6 +467,7 @@ class Flattener:
                 "declared_partial": bool(getattr(self.root.resolved.definition, "partial", False)),
                 "declared_external": bool(getattr(self.root.resolved.definition, "external", False)),
                 "strings": getattr(self, "_strings", {}),
+                "analysis_points": self.graph.analysis_points,
                 "model_span": span_text(self.root.resolved.definition.span)}
 
     def _connector_info(self, node: Instance) -> dict:

@@ -20,7 +20,7 @@ from compiler.errors import DyadError, Span, closest, suggest_name
 from compiler.syntax.modelica_forms import modelica_form_error
 from compiler.model.functions import ELEMENTARY, GLOBAL_REGISTRY, FunctionImpl, FunctionRegistry, \
     suggest_function
-from compiler.model.julia_functions import JuliaFunction, UnreadableFunction, julia_source_files, \
+from compiler.julia.functions import JuliaFunction, UnreadableFunction, julia_source_files, \
     read_julia_functions
 from compiler.model.library_path import LIBRARY_PATH_VARIABLE, Root, describe, search_path
 from compiler.syntax import ast
@@ -268,7 +268,7 @@ class Library:
                         hint=f"did you mean `{suggestion}`?" if suggestion else None)
 
     def julia_function(self, qualified_name: str) -> JuliaFunction | UnreadableFunction | None:
-        """A function `Pkg.name` that package `Pkg` defines in Julia (compiler.model.julia_functions),
+        """A function `Pkg.name` that package `Pkg` defines in Julia (compiler.julia.functions),
         from the first root whose folder `Pkg` defines it, as for definitions."""
         package, _, name = qualified_name.rpartition(".")
         if not package or "." in package:

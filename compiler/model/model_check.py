@@ -21,7 +21,7 @@ from compiler.model.balance import check_balance, incidence, span_from_text, unb
 from compiler.errors import DyadError, Note
 from compiler.model.flat import INPUT, FlatSystem
 from compiler.model.floating import FloatingCluster, floating_clusters
-from compiler.model.julia_objects import opaque_calls
+from compiler.julia.objects import opaque_calls
 from compiler.structure.graph.dulmage_mendelsohn import dulmage_mendelsohn
 
 
@@ -37,7 +37,7 @@ class Verdict:
     component_unknowns: int = 0               # without those flows and its inputs
     reason: DyadError | None = None           # why it cannot run on its own (None: it can)
     declared_external: bool = False           # `external component`: equations written in Julia
-    julia_object_calls: tuple[str, ...] = ()  # functions of a medium (compiler/model/julia_objects.py)
+    julia_object_calls: tuple[str, ...] = ()  # functions of a medium (compiler/julia/objects.py)
     julia_object_span: object = None          # the first equation that calls one
 
     @property
