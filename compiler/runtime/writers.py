@@ -112,9 +112,10 @@ def _write_csv(temp: str, time: np.ndarray, data: dict, units: dict, parameters:
 
 def _formatted_columns(columns: list[np.ndarray]) -> list[list[str]]:
     """Each column as its numbers' text (`%.17g`), formatted once per distinct column: a model's
-    aliases and constants repeat (the excavator's 631 signals are 286 distinct columns, 83
-    constant), and formatting is the writer's whole cost. One `%` over the column is a single
-    call into C. The text is the same as formatting every number on its own."""
+    aliases, constants and opposite flows repeat (the excavator's 631 signals are 286 distinct
+    columns, 45 of them the negation of another, 83 constant), and formatting is the writer's
+    whole cost. One `%` over the column is a single call into C. The text is the same as
+    formatting every number on its own."""
     formatted: dict[bytes, list[str]] = {}
     out = []
     for column in columns:
@@ -122,15 +123,20 @@ def _formatted_columns(columns: list[np.ndarray]) -> list[list[str]]:
         key = column.tobytes()
         text = formatted.get(key)
         if text is None:
-            n = len(column)
-            bits = column.view(np.int64)            # -0.0 prints unlike 0.0: compare bits
-            if n and (bits == bits[0]).all():
-                text = ["%.17g" % column[0]] * n
-            else:
-                text = (("%.17g\n" * n) % tuple(column.tolist())).split("\n")[:n]
-            formatted[key] = text
+            text = formatted[key] = _formatted(column, formatted)
         out.append(text)
     return out
+
+
+def _formatted(column: np.ndarray, formatted: dict[bytes, list[str]]) -> list[str]:
+    n = len(column)
+    bits = column.view(np.int64)                    # -0.0 prints unlike 0.0: compare bits
+    if n and (bits == bits[0]).all():
+        return ["%.17g" % column[0]] * n
+    negated = formatted.get((-column).tobytes())    # `%.17g` of -x is "-" and that of x (NaN aside)
+    if negated is not None and not np.isnan(column).any():
+        return [t[1:] if t[0] == "-" else "-" + t for t in negated]
+    return (("%.17g\n" * n) % tuple(column.tolist())).split("\n")[:n]
 
 
 def _csv_field(name: str) -> str:
