@@ -42,8 +42,10 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     are not needed to read its arguments, and building all of them costs a run 5-6 ms (argparse's
     gettext lookups). Unknown or missing commands and `--help` get them all."""
     import importlib
+    from compiler import __version__
     parser = argparse.ArgumentParser(prog="dyadc", description=DESCRIPTION, epilog=EXAMPLES,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--version", action="version", version=f"dyadc {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     for name in COMMANDS:

@@ -15,9 +15,16 @@ from typing import Callable, Sequence
 from compiler.errors import DyadError
 
 
-def check_simulate_outputs(output: str | None, plot: str | None) -> None:
-    """`--output` and `--plot` of `dyadc simulate`: places that can be written, known extensions
-    (disjoint for tables and plots, so the two never name one file), the packages they need."""
+def check_simulate_outputs(output: str | None, plot: str | None, events: str | None = None) -> None:
+    """`--output`, `--plot` and `--events` of `dyadc simulate`: places that can be written, known
+    extensions (disjoint for tables and plots, so the two never name one file), the packages they
+    need."""
+    if events:
+        check_output_file(events, "--events")
+        if not events.lower().endswith(".csv"):
+            raise DyadError(f"--events `{events}`: events are written as CSV", hint="name it FILE.csv")
+        if events in (output, plot):
+            raise DyadError(f"--events `{events}` names the same file as --output or --plot")
     from compiler.runtime.plotting import PlotFormatError, plot_format
     from compiler.runtime.writers import OutputFormatError, check_table_writer
 

@@ -232,11 +232,14 @@ def run_tests(model_spec: str | None, lib_dirs: Sequence[str] = (), *,
                     reports.append(CaseReport(case, error=f"cannot compile {model}: {err.format()}"))
                     print(reports[-1].format(), file=out, flush=True)
     for spec, compilation, cases in targets:
+        said: set[str] = set()              # a model's notes are printed once, not once per case
         for case in cases:
             if accept:
                 report = accept_case(compilation, case, golden_dir)
             else:
                 report = run_case(compilation, case, golden_dir, spec, lib_dirs)
+            report.notes = [note for note in report.notes if note not in said]
+            said.update(report.notes)
             print(report.format(verbose=not accept), file=out, flush=True)
             reports.append(report)
     return reports
