@@ -136,13 +136,16 @@ def compile_or_load(spec: str, lib_dirs: Sequence[str] = (), *,
 
 
 def start_notes(compilation: Compilation | CachedCompilation) -> list[str]:
-    """The note on start values chosen for an under-determined initialization, if any (as
-    compiler.testing.golden.initialization_notes); a cached compilation kept it."""
+    """What `dyadc simulate` prints before a run, as whole lines: the warning on connectors left
+    unconnected and the note on start values chosen for an under-determined initialization (as
+    compiler.testing.golden.initialization_notes); a cached compilation kept them."""
     if not isinstance(compilation, Compilation):
         return list(compilation.notes)
+    from compiler.model.flatten_report import open_connector_warning
     from compiler.structure.initialization import describe_chosen
     chosen = compilation.reduced.initial.chosen
-    return [describe_chosen(chosen)] if chosen else []
+    warning = open_connector_warning(compilation.flat)
+    return [f"warning: {warning}"] * bool(warning) + [f"note: {describe_chosen(chosen)}"] * bool(chosen)
 
 
 def recompile(cached: CachedCompilation) -> Compilation:

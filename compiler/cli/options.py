@@ -66,8 +66,8 @@ def check_path(option: str, path: str) -> None:
 
 
 # The arguments of `dyadc` commands that name files or folders, by attribute.
-_PATH_OPTIONS = {"file": "FILE", "output": "--output", "plot": "--plot", "output_dir": "-o",
-                 "golden": "--golden", "lib": "-L"}
+_PATH_OPTIONS = {"file": "FILE", "output": "--output", "plot": "--plot", "events": "--events",
+                 "output_dir": "-o", "golden": "--golden", "lib": "-L"}
 
 
 def check_paths(args) -> None:
@@ -116,6 +116,28 @@ def check_output_size(points: int, signals: int, limit: int, what: str) -> None:
                         f"of {limit:,}",
                         hint=f"use fewer output times (--points, a coarser --saveat), fewer signals, or "
                              f"raise the limit with --max-output-values or ${MAX_OUTPUT_VALUES_ENV}")
+
+
+def chosen_signals(requested, outputs) -> list[str] | None:
+    """`--vars`: the signals named, a name with `*` or `?` expanded as a pattern (None: all)."""
+    if not requested:
+        return None
+    from compiler.runtime import ModelInputError, matching_signals
+    try:
+        return matching_signals(requested, list(outputs))
+    except ModelInputError as err:
+        raise DyadError(f"--vars: {err}") from None
+
+
+def overrides_accepted(model, params: Mapping[str, float]) -> bool:
+    """Whether the compiled model takes every `-p` override (a tunable parameter, a finite value);
+    when not, the run says why (for a structural parameter at its declaration, compiler/api.py)."""
+    from compiler.runtime import ModelInputError
+    try:
+        model.parameter_vector(params)
+    except ModelInputError:
+        return False
+    return True
 
 
 def check_points(points: int) -> None:

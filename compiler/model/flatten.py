@@ -78,11 +78,9 @@ def check_library(root_dir: str) -> list[str]:
     from compiler.model.model_check import check_model
     from pathlib import Path
     library = Library([root_dir])
-    lines: list[str] = []
-    try:
-        definitions = library.definitions_under(Path(root_dir))
-    except DyadError as err:
-        return [err.format()]
+    unparsed: list[DyadError] = []          # every file that does not parse is reported
+    definitions = library.definitions_under(Path(root_dir), unparsed)
+    lines = [err.format() for err in unparsed]
     for resolved in definitions:
         definition = resolved.definition
         if not isinstance(definition, ast.ComponentDef) or definition.partial:
