@@ -9,7 +9,8 @@ from __future__ import annotations
 import argparse
 import sys
 
-RUN_HELP = "run an `analysis` block (TransientAnalysis) and write its result (CSV by default)"
+RUN_HELP = ("run an `analysis` block (TransientAnalysis; LinearAnalysis, ClosedLoopAnalysis, "
+            "ClosedLoopSensitivityAnalysis) and write its result (CSV, or JSON and plots)")
 
 
 def add_run_parser(sub, lib_help: str) -> None:
@@ -45,6 +46,10 @@ def main_run(args: argparse.Namespace) -> int:
     limit = options.max_output_values(args.max_output_values)
     library = Library(args.lib)
     resolved = find_analysis(args.analysis, library)
+    from compiler.analysis.linear_analyses import linear_kind
+    if linear_kind(resolved, library):
+        from compiler.analysis.linear_command import main_linear_run
+        return main_linear_run(args, resolved, library, overrides)
     run = read_transient(resolved, library, {o.name: o.value for o in overrides})
     for o in overrides:
         if o.unit is not None and (o.name in run.parameters or o.name in FIELDS):
