@@ -161,9 +161,11 @@ def _outputs(compiled: LinearCompilation, request: Request) -> tuple[list[str], 
 
 
 def _run(compiled: LinearCompilation, request: Request):
-    from compiler.api import simulate_compiled
+    """The run to the operating time (the runtime's one driver, with the state-set switcher)."""
+    from compiler import runtime
     overrides = {**dict(request.params), **dict(request.op)}
-    return simulate_compiled(compiled.compilation, float(request.at), points=2, params=overrides or None)
+    return runtime.simulate(compiled.compilation.model, float(request.at), points=2,
+                            params=overrides or None, switcher=_switcher(compiled))
 
 
 def _switcher(compiled: LinearCompilation):
