@@ -29,12 +29,13 @@ examples:
 
 
 COMMANDS = ("parse", "fmt", "check", "flatten", "inspect", "compile", "simulate", "run", "sweep", "test",
-            "animate", "cache", "generate")
+            "animate", "cache", "generate", "linearize")
 # The module that defines each command's arguments and runs it (`run`: compiler/analysis/command.py).
 COMMAND_MODULES = {"parse": "cli_source", "fmt": "cli_source", "check": "cli_source", "flatten": "cli_source",
                    "inspect": "cli_source", "compile": "cli_source", "generate": "cli_source",
                    "simulate": "cli_simulate", "cache": "cli_simulate",
-                   "sweep": "cli_studies", "test": "cli_studies", "animate": "cli_studies"}
+                   "sweep": "cli_studies", "test": "cli_studies", "animate": "cli_studies",
+                   "linearize": "cli_linear"}
 
 
 def build_parser(command: str | None = None) -> argparse.ArgumentParser:

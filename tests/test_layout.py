@@ -11,7 +11,7 @@ PACKAGE = Path(compiler.__file__).resolve().parent
 STAGES = {"syntax", "julia", "model", "structure", "lower", "runtime", "testing", "render", "sweep", "components",
           "analysis", "cache", "linear"}
 ON_TOP = {"__init__", "__main__", "api", "cli", "cli_options", "cli_outputs", "cli_simulate", "cli_source",
-          "cli_studies", "errors", "inspect_report", "pipeline", "simulate"}
+          "cli_studies", "cli_linear", "errors", "inspect_report", "pipeline", "simulate"}
 
 
 def module_name(path: Path) -> str:

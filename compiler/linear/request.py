@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Mapping, Sequence
+from typing import TYPE_CHECKING, Callable, Mapping, Sequence
 
 from compiler.errors import DyadError
 from compiler.linear.operating_point import initial_point, point_of_run, steady_point
@@ -36,6 +36,8 @@ class Request:
     params: Mapping[str, float] = field(default_factory=dict)
     opened: tuple[str, ...] = ()
     minimal: bool = False
+    # (model parameters, their declared units) -> params: the command line's `-p L=100mm`
+    convert_params: Callable[[Mapping[str, float], Mapping[str, str]], dict] | None = None
 
 
 def linearize_spec(spec: str | FlatSystem, request: Request, lib_dirs: Sequence[str] = (), cache: bool = True
@@ -104,12 +106,10 @@ def compile_linear(spec: str | FlatSystem, request: Request, lib_dirs: Sequence[
 
 def _unknown(flat, name: str, points, free, opening: bool):
     from compiler.errors import suggest_name
-    from compiler.model.balance import span_from_text
     candidates = list(points) if opening else list(points) + list(free)
     close = suggest_name(name, candidates)
     what = "an analysis point" if opening else "a free top-level input or an analysis point"
     raise DyadError(f"`{name}` is not {what} of `{flat.name}`" + (f"; {close}" if close else ""),
-                    span_from_text(flat.metadata.get("model_span")),
                     hint=f"its free inputs: {', '.join(free) or 'none'}; its analysis points: "
                          f"{', '.join(sorted(points)) or 'none'}")
 
@@ -126,10 +126,14 @@ def _linearize(compiled: LinearCompilation, request: Request, inputs: Sequence[s
                                  f"takes -p NAME=VALUE")
     if outputs is None:
         outputs, labels = _outputs(compiled, request)
-    p = model.parameter_vector({**dict(request.params), **dict(request.op)})
+    params = dict(request.params)
+    if request.convert_params is not None:
+        params = request.convert_params(model.parameters, model.metadata.get("units", {}))
+    overrides = {**params, **dict(request.op)}
+    p = model.parameter_vector(overrides)
     point = initial_point(model, p)
     if request.at is not None:
-        point = point_of_run(model, p, _run(compiled, request), _switcher(compiled))
+        point = point_of_run(model, p, _run(compiled, request.at, overrides), _switcher(compiled))
     if request.steady:
         point = steady_point(point)
     system = linearize_at(point, list(inputs), list(outputs), labels)
@@ -160,12 +164,11 @@ def _outputs(compiled: LinearCompilation, request: Request) -> tuple[list[str], 
     return names, labels
 
 
-def _run(compiled: LinearCompilation, request: Request):
+def _run(compiled: LinearCompilation, at: float, overrides: Mapping[str, float]):
     """The run to the operating time (the runtime's one driver, with the state-set switcher)."""
     from compiler import runtime
-    overrides = {**dict(request.params), **dict(request.op)}
-    return runtime.simulate(compiled.compilation.model, float(request.at), points=2,
-                            params=overrides or None, switcher=_switcher(compiled))
+    return runtime.simulate(compiled.compilation.model, float(at), points=2,
+                            params=dict(overrides) or None, switcher=_switcher(compiled))
 
 
 def _switcher(compiled: LinearCompilation):
