@@ -40,6 +40,7 @@ def add_linearize(sub) -> None:
                         help="the loop transfer L at analysis point P (S = (I + L)^-1)")
     p.add_argument("--minimal", action="store_true", help="a minimal realization")
     p.add_argument("--output", metavar="FILE", help="write the linear model: .json, .mat or .npz")
+    p.add_argument("--plot", metavar="FILE.png", help="a Bode plot of every input-output pair")
     p.set_defaults(run=run_linearize)
 
 
@@ -54,6 +55,8 @@ def run_linearize(args) -> int:
     if args.output and not args.output.lower().endswith(FORMATS):
         raise DyadError(f"--output {args.output}: a linear model is written as {', '.join(FORMATS)}",
                         hint=f"e.g. --output {args.output.rsplit('.', 1)[0]}.json")
+    if args.plot and not args.plot.lower().endswith(".png"):
+        raise DyadError(f"--plot {args.plot}: the plot is written as .png", hint="e.g. --plot bode.png")
     if args.at is not None:
         options.check_finite("--at", args.at)
     point = next(((kind, getattr(args, kind)) for kind in CLOSED_LOOP if getattr(args, kind)), None)
@@ -67,6 +70,12 @@ def run_linearize(args) -> int:
     if args.output:
         write(system, args.output)
         print(f"wrote {args.output}", file=sys.stderr)
+    if args.plot:
+        from compiler.linear.plots import bode_plot, frequency_grid
+        curves = [(system.select([j], [i]).to_control(), f"{o} / {u}")
+                  for i, o in enumerate(system.outputs) for j, u in enumerate(system.inputs)]
+        bode_plot(curves, frequency_grid([system]), args.plot, "Bode plot of the linear model")
+        print(f"wrote {args.plot}", file=sys.stderr)
     return 0
 
 

@@ -16,11 +16,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, Mapping
 
 import numpy as np
 
+from compiler.linear.files import complex_text
+from compiler.linear.plots import bode_plot, frequency_grid, nyquist_plot, step_plot, steps_plot
 from compiler.linear.request import Request, closed_loop_function, linearize_spec
 from compiler.linear.system import LinearSystem
 
@@ -37,15 +38,10 @@ def names(value) -> tuple[str, ...]:
     return (value,) if isinstance(value, str) else tuple(value)
 
 
-def frequencies(settings: Mapping[str, Any], systems) -> np.ndarray | None:
+def frequencies(settings: Mapping[str, Any], systems) -> np.ndarray:
     """The grid wl..wu (rad/s, num_frequencies points); -1 bounds from the poles of `systems`."""
-    wl, wu = float(settings.get("wl", -1)), float(settings.get("wu", -1))
-    if wl > 0 and wu > wl:
-        return np.logspace(math.log10(wl), math.log10(wu), int(settings.get("num_frequencies", 3000)))
-    magnitudes = [abs(p) for s in systems for p in np.linalg.eigvals(s.A) if abs(p) > 1e-9] if systems else []
-    low = wl if wl > 0 else (min(magnitudes) / 100 if magnitudes else 1e-2)
-    high = wu if wu > low else (max(magnitudes) * 100 if magnitudes else 1e3)
-    return np.logspace(math.log10(low), math.log10(high), int(settings.get("num_frequencies", 1000)))
+    return frequency_grid(systems, float(settings.get("wl", -1)), float(settings.get("wu", -1)),
+                          int(settings.get("num_frequencies", 1000)))
 
 
 def linear_analysis(flat, settings: Mapping[str, Any], prefix: str, params=None) -> AnalysisReport:
@@ -56,10 +52,10 @@ def linear_analysis(flat, settings: Mapping[str, Any], prefix: str, params=None)
     report = AnalysisReport(systems={"linear": system})
     sys_ = system.to_control()
     omega = frequencies(settings, [system])
-    report.files.append(_bode([(sys_, "")], omega, f"{prefix}_bode.png", "Bode plot"))
+    report.files.append(bode_plot([(sys_, "")], omega, f"{prefix}_bode.png", "Bode plot"))
     duration = float(settings.get("duration", -1))
     step = control.step_response(sys_, T=duration if duration > 0 else None)
-    report.files.append(_step(step, system, f"{prefix}_step.png"))
+    report.files.append(step_plot(step, system, f"{prefix}_step.png"))
     report.lines += _damping(system)
     report.numbers["poles"] = [complex(p) for p in system.poles()]
     return report
@@ -90,15 +86,15 @@ def closed_loop_analysis(flat, settings: Mapping[str, Any], prefix: str, params=
         gain_text = _db(gm) + (f" at {wcg:.4g} rad/s" if np.isfinite(gm) else "")
         report.lines.append(f"loop transfer L = P C at {', '.join(control_input)}: gain margin "
                             f"{gain_text}, phase margin {pm:.4g} deg at {wcp:.4g} rad/s")
-        report.files.append(_nyquist(loop, omega, f"{prefix}_nyquist.png"))
-    report.files.append(_bode([(loop, "L = PC")], omega, f"{prefix}_bode.png", "loop transfer"))
-    report.files.append(_bode(list((g, name) for name, g in gang.items()), omega,
+        report.files.append(nyquist_plot(loop, omega, f"{prefix}_nyquist.png"))
+    report.files.append(bode_plot([(loop, "L = PC")], omega, f"{prefix}_bode.png", "loop transfer"))
+    report.files.append(bode_plot(list((g, name) for name, g in gang.items()), omega,
                               f"{prefix}_gangoffour.png", "gang of four", magnitude_only=True))
     closed = control.feedback(loop, np.eye(loop.noutputs))
-    report.lines += [f"closed-loop poles: " + ", ".join(_complex(x) for x in sorted(
+    report.lines += [f"closed-loop poles: " + ", ".join(complex_text(x) for x in sorted(
         closed.poles(), key=lambda z: (z.real, z.imag)))]
     duration = float(settings.get("duration", -1))
-    report.files.append(_steps({"reference -> measurement (T)": gang["T"],
+    report.files.append(steps_plot({"reference -> measurement (T)": gang["T"],
                                 "input disturbance -> measurement (PS)": gang["PS"]},
                                duration, f"{prefix}_step.png"))
     peak = _peak(gang["S"], omega)
@@ -126,7 +122,7 @@ def sensitivity_analysis(flat, settings: Mapping[str, Any], prefix: str, params=
                             f"{bound['gain_margin_at_least']:.4g}, phase margin >= "
                             f"{bound['phase_margin_at_least_deg']:.4g} deg)")
         curves.append((s, f"S at {point} (Ms = {peak:.3g})"))
-    report.files.append(_bode(curves, omega, f"{prefix}_sensitivity.png", "sensitivity", magnitude_only=True))
+    report.files.append(bode_plot(curves, omega, f"{prefix}_sensitivity.png", "sensitivity", magnitude_only=True))
     return report
 
 
@@ -134,12 +130,25 @@ RUNNERS = {"LinearAnalysis": linear_analysis, "ClosedLoopAnalysis": closed_loop_
            "ClosedLoopSensitivityAnalysis": sensitivity_analysis}
 
 
-# -- numbers and plots ------------------------------------------------------------------------------
+# -- numbers ----------------------------------------------------------------------------------------
 
 def _peak(system, omega: np.ndarray) -> float:
-    response = system(1j * omega)
-    magnitude = np.abs(np.asarray(response)).reshape(-1, len(omega)) if np.ndim(response) else np.abs(response)
-    return float(np.max(magnitude))
+    """The largest |entry| of the frequency response over the band of `omega`: the grid's
+    largest, refined by golden-section search in log frequency between its neighbours."""
+    def largest(w: float) -> float:
+        return float(np.max(np.abs(np.asarray(system(1j * w)))))
+
+    values = [largest(w) for w in omega]
+    k = int(np.argmax(values))
+    low, high = math.log(omega[max(k - 1, 0)]), math.log(omega[min(k + 1, len(omega) - 1)])
+    ratio = (math.sqrt(5) - 1) / 2
+    for _ in range(80):
+        a, b = high - ratio * (high - low), low + ratio * (high - low)
+        if largest(math.exp(a)) >= largest(math.exp(b)):
+            high = b
+        else:
+            low = a
+    return max(values[k], largest(math.exp((low + high) / 2)))
 
 
 def _damping(system: LinearSystem) -> list[str]:
@@ -148,92 +157,9 @@ def _damping(system: LinearSystem) -> list[str]:
         w = abs(p)
         zeta = -p.real / w if w > 0 else 1.0
         tau = -1 / p.real if p.real < 0 else math.inf
-        lines.append(f"{_complex(p):<26} {zeta:8.4g}   {w:17.6g}   {tau:17.6g}")
+        lines.append(f"{complex_text(p):<26} {zeta:8.4g}   {w:17.6g}   {tau:17.6g}")
     return lines
-
-
-def _complex(p: complex) -> str:
-    if abs(p.imag) <= 1e-12 * max(abs(p), 1.0):
-        return f"{p.real:.6g}"
-    return f"{p.real:.6g} {'+' if p.imag > 0 else '-'} {abs(p.imag):.6g}i"
 
 
 def _db(gain: float) -> str:
     return "infinite" if not np.isfinite(gain) else f"{20 * math.log10(gain):.4g} dB ({gain:.4g})"
-
-
-def _figure(rows: int = 1):
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt, plt.subplots(rows, 1, figsize=(7, 2.6 * rows + 0.6), squeeze=False)
-
-
-def _bode(curves, omega, path: str, title: str, magnitude_only: bool = False) -> str:
-    plt, (fig, axes) = _figure(1 if magnitude_only else 2)
-    for system, label in curves:
-        response = np.asarray(system(1j * omega)).reshape(-1, len(omega))
-        for k, row in enumerate(response):
-            name = label if response.shape[0] == 1 else f"{label} [{k + 1}]"
-            axes[0][0].loglog(omega, np.abs(row), label=name or None)
-            if not magnitude_only:
-                axes[1][0].semilogx(omega, np.degrees(np.unwrap(np.angle(row))), label=name or None)
-    axes[0][0].set_ylabel("magnitude")
-    axes[0][0].set_title(title)
-    if not magnitude_only:
-        axes[1][0].set_ylabel("phase (deg)")
-    axes[-1][0].set_xlabel("frequency (rad/s)")
-    for row in axes:
-        row[0].grid(True, which="both", alpha=0.3)
-        if any(label for _, label in curves):
-            row[0].legend(fontsize=8)
-    return _save(plt, fig, path)
-
-
-def _nyquist(loop, omega, path: str) -> str:
-    plt, (fig, axes) = _figure(1)
-    response = np.asarray(loop(1j * omega)).reshape(-1)
-    ax = axes[0][0]
-    ax.plot(response.real, response.imag, label="L(iw)")
-    ax.plot(response.real, -response.imag, "--", alpha=0.5, label="L(-iw)")
-    ax.plot([-1], [0], "r+", markersize=12, label="-1")
-    ax.set_xlabel("real")
-    ax.set_ylabel("imaginary")
-    ax.set_title("Nyquist plot of the loop transfer")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
-    return _save(plt, fig, path)
-
-
-def _step(step, system: LinearSystem, path: str) -> str:
-    plt, (fig, axes) = _figure(1)
-    outputs = np.asarray(step.outputs).reshape(len(system.outputs), len(system.inputs), -1)
-    for i, out in enumerate(system.outputs):
-        for j, inp in enumerate(system.inputs):
-            axes[0][0].plot(step.time, outputs[i, j], label=f"{inp} -> {out}")
-    axes[0][0].set_xlabel("time (s)")
-    axes[0][0].set_title("step response of the linear model")
-    axes[0][0].grid(True, alpha=0.3)
-    axes[0][0].legend(fontsize=8)
-    return _save(plt, fig, path)
-
-
-def _steps(systems: Mapping[str, Any], duration: float, path: str) -> str:
-    import control
-    plt, (fig, axes) = _figure(1)
-    for label, system in systems.items():
-        step = control.step_response(system, T=duration if duration > 0 else None)
-        axes[0][0].plot(step.time, np.asarray(step.outputs).reshape(-1, len(step.time))[0], label=label)
-    axes[0][0].set_xlabel("time (s)")
-    axes[0][0].set_title("closed-loop step responses")
-    axes[0][0].grid(True, alpha=0.3)
-    axes[0][0].legend(fontsize=8)
-    return _save(plt, fig, path)
-
-
-def _save(plt, fig, path: str) -> str:
-    Path(path).parent.mkdir(parents=True, exist_ok=True)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path

@@ -56,6 +56,7 @@ def test_opened_loop_at_a_time(capsys):
     (["--op", "controller.Kp=3"], "--op controller.Kp=...: `controller.Kp` is not an input of this linearization"),
     (["--sensitivity", "u", "--inputs", "r"], "--sensitivity gives its own input and output"),
     (["--output", "m.csv"], "--output m.csv: a linear model is written as .json, .mat, .npz"),
+    (["--plot", "m.svg"], "--plot m.svg: the plot is written as .png"),
 ])
 def test_errors(arguments, message, capsys):
     assert linearize("Linear.DCMotorPI", *arguments) == 1
@@ -65,3 +66,9 @@ def test_errors(arguments, message, capsys):
 def test_free_inputs_still_refused_by_simulate(capsys):
     assert main(["simulate", "Linear.RCLowPass", "--stop", "1", "-L", MODELS]) == 1
     assert "its connector V is left open" in capsys.readouterr().err
+
+
+def test_bode_plot(tmp_path):
+    path = tmp_path / "bode.png"
+    assert linearize("Linear.MassSpringDamper", "--outputs", "mass.s", "mass.v", "--plot", str(path)) == 0
+    assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and path.stat().st_size > 20_000
