@@ -86,6 +86,11 @@ def closed_loop_analysis(flat, settings: Mapping[str, Any], prefix: str, params=
         gain_text = _db(gm) + (f" at {wcg:.4g} rad/s" if np.isfinite(gm) else "")
         report.lines.append(f"loop transfer L = P C at {', '.join(control_input)}: gain margin "
                             f"{gain_text}, phase margin {pm:.4g} deg at {wcp:.4g} rad/s")
+        disk, disk_gain_db, disk_phase = control.disk_margins(loop, omega)   # balanced (skew 0)
+        report.numbers.update(disk_margin=float(disk), disk_gain_margin_db=float(disk_gain_db),
+                              disk_phase_margin_deg=float(disk_phase))
+        report.lines.append(f"disk margin {disk:.4g}: gain margin {disk_gain_db:.4g} dB and phase "
+                            f"margin {disk_phase:.4g} deg together (over {omega[0]:.3g}..{omega[-1]:.3g} rad/s)")
         report.files.append(nyquist_plot(loop, omega, f"{prefix}_nyquist.png"))
     report.files.append(bode_plot([(loop, "L = PC")], omega, f"{prefix}_bode.png", "loop transfer"))
     report.files.append(bode_plot(list((g, name) for name, g in gang.items()), omega,

@@ -51,11 +51,18 @@ def bode_plot(curves, omega, path: str, title: str, magnitude_only: bool = False
 
 def nyquist_plot(loop, omega, path: str) -> str:
     plt, (fig, axes) = figure(1)
+    fig.set_size_inches(6, 6)
     response = np.asarray(loop(1j * omega)).reshape(-1)
     ax = axes[0][0]
     ax.plot(response.real, response.imag, label="L(iw)")
     ax.plot(response.real, -response.imag, "--", alpha=0.5, label="L(-iw)")
     ax.plot([-1], [0], "r+", markersize=12, label="-1")
+    circle = np.exp(1j * np.linspace(0, 2 * np.pi, 200))
+    ax.plot(circle.real, circle.imag, ":", color="gray", linewidth=0.8, label="|L| = 1")
+    reach = max(2.0, min(float(np.max(np.abs(response))), 4.0))     # the part near -1 matters
+    ax.set_xlim(-reach, reach)
+    ax.set_ylim(-reach, reach)
+    ax.set_aspect("equal")
     ax.set_xlabel("real")
     ax.set_ylabel("imaginary")
     ax.set_title("Nyquist plot of the loop transfer")

@@ -51,6 +51,9 @@ def test_closed_loop_analysis_phase_margin_and_peak_sensitivity(tmp_path):
     assert results["gain_crossover"] == pytest.approx(crossover, rel=1e-6)
     assert results["phase_margin_deg"] == pytest.approx(phase_margin, rel=1e-6)
     assert results["Ms"] == pytest.approx(peak(lambda w: 1 / (1 + loop(w))), rel=1e-9)
+    grid = np.logspace(-1, 3, 3000)          # wl = 0.1, wu = 1000, num_frequencies default 3000
+    balanced = np.abs(1 / (1 + loop(grid)) - loop(grid) / (1 + loop(grid))) / 2
+    assert results["disk_margin"] == pytest.approx(1 / balanced.max(), rel=1e-9)
     assert [Path(f).name for f in data["plots"]] == ["MotorLoop_nyquist.png", "MotorLoop_bode.png",
                                                      "MotorLoop_gangoffour.png", "MotorLoop_step.png"]
 
