@@ -44,6 +44,7 @@ class LinearAnalysisRun:
     settings: Mapping[str, Any]     # every field of the kind, given or defaulted
     span: Span | None = None
     parameters: frozenset[str] = frozenset()
+    spans: Mapping[str, Span | None] = None        # where each given field is written
 
 
 def linear_kind(resolved: Resolved, library: Library) -> str | None:
@@ -81,7 +82,34 @@ def read_linear(resolved: Resolved, library: Library, overrides: Mapping[str, fl
                                 f"`{definition.name}`", where)
     model, model_name = analysis_model(resolved, collected, scope)
     return LinearAnalysisRun(resolved.qualified_name, kind, model, model_name, settings,
-                             definition.span, frozenset(collected.parameters))
+                             definition.span, frozenset(collected.parameters), dict(collected.spans))
+
+
+# what each name field may name: analysis points, free top-level inputs, variables
+NAMED = {"inputs": ("points", "free"), "outputs": ("points", "variables"), "loop_openings": ("points",),
+         "measurement": ("points",), "control_input": ("points",), "analysis_points": ("points",)}
+
+
+def check_names(run: LinearAnalysisRun, flat) -> None:
+    """Every name the analysis gives exists in its model, or a located error at the field."""
+    from compiler.linear.inputs import analysis_points, free_inputs
+    known = {"points": set(analysis_points(flat)), "free": set(free_inputs(flat)),
+             "variables": {v.name for v in flat.variables}}
+    kinds = {"points": "an analysis point", "free": "a free top-level input", "variables": "a variable"}
+    for field, allowed in NAMED.items():
+        if field not in run.settings:
+            continue
+        given = run.settings[field]
+        for name in ((given,) if isinstance(given, str) else given):
+            candidates = set().union(*(known[a] for a in allowed))
+            if name in candidates:
+                continue
+            close = suggest_name(name, sorted(candidates))
+            what = " or ".join(kinds[a] for a in allowed)
+            raise DyadError(f"`{name}` in `{field}` of analysis `{run.name}` is not {what} of "
+                            f"`{run.model_name}`" + (f"; {close}" if close else ""),
+                            run.spans.get(field) or run.span,
+                            hint=f"its analysis points: {', '.join(sorted(known['points'])) or 'none'}")
 
 
 def _value(expr: Any, default: Any, what: str, span: Span | None) -> Any:

@@ -10,7 +10,7 @@ from pathlib import Path
 
 
 def main_linear_run(args: argparse.Namespace, resolved, library, overrides) -> int:
-    from compiler.analysis.linear_analyses import read_linear
+    from compiler.analysis.linear_analyses import check_names, read_linear
     from compiler.errors import DyadError
     from compiler.linear.analyses import RUNNERS
     from compiler.linear.files import as_plain
@@ -26,6 +26,7 @@ def main_linear_run(args: argparse.Namespace, resolved, library, overrides) -> i
                         hint=f"--output {output.with_suffix('.json')}")
     params = {o.name: o.value for o in overrides if o.name not in run.parameters and o.name not in run.settings}
     flat = flatten_resolved(run.model, library)
+    check_names(run, flat)
     prefix = str(output.with_suffix(""))
     report = RUNNERS[run.kind](flat, run.settings, prefix, params)
     data = {"analysis": run.name, "kind": run.kind, "model": run.model_name,

@@ -75,3 +75,14 @@ def test_a_misspelled_field_is_located(tmp_path, capsys):
     assert main(["run", f"{source}:Bad", "-L", str(MODELS), "--output", str(tmp_path / "b.json")]) != 0
     err = capsys.readouterr().err
     assert f"{source}:2:" in err and "has no field `num_frequency`" in err and "num_frequencies" in err
+
+
+def test_an_unknown_analysis_point_is_located_at_its_field(tmp_path, capsys):
+    source = tmp_path / "bad.dyad"
+    source.write_text('analysis Bad\n  extends ClosedLoopSensitivityAnalysis(\n    analysis_points = ["u", "yy"])\n'
+                      '  model = Linear.DCMotorPI()\nend\n')
+    assert main(["run", f"{source}:Bad", "-L", str(MODELS), "--output", str(tmp_path / "b.json")]) == 1
+    err = capsys.readouterr().err
+    assert f"{source}:3:" in err
+    assert "`yy` in `analysis_points` of analysis `Bad` is not an analysis point of `Linear.DCMotorPI`; " \
+           "did you mean `y`?" in err
