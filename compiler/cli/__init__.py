@@ -46,6 +46,7 @@ FAMILIES = (
     ("animate", ("animate",)),
     ("cache", ("cache",)),
     ("generate", ("generate",)),
+    ("linear", ("linearize",)),
 )
 COMMANDS = tuple(command for _, commands in FAMILIES for command in commands)
 
