@@ -63,7 +63,8 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
 def _warning_line(message, category, filename, lineno, file=None, line=None) -> None:
     """Warnings reach a user of the command line as `warning: ...` lines, not as Python's
     file:line report of where in dyadc they were raised."""
-    print(f"warning: {message}", file=file or sys.stderr)
+    located = getattr(message, "located", False)      # already `FILE:LINE:COL: warning: ...`
+    print(message if located else f"warning: {message}", file=file or sys.stderr)
 
 
 # The variables OpenBLAS reads for its thread count (the first one set wins).
@@ -131,7 +132,8 @@ def run_command(argv: list[str] | None = None) -> int:
         from compiler.model.size_limits import element_limit
         cli_options.check_arguments(arguments)
         cli_options.check_paths(args)
-        with element_limit(getattr(args, "max_elements", None)):
+        from compiler.units.mode import units_mode
+        with element_limit(getattr(args, "max_elements", None)), units_mode(getattr(args, "units", None)):
             return args.run(args) or 0
     except DyadError as err:
         print(err.format(), file=sys.stderr)

@@ -18,6 +18,12 @@ def add_model_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--max-elements", type=int, metavar="N",
                    help="refuse array sizes, ranges, loops and component arrays of more than N elements "
                         "(default $DYADC_MAX_ELEMENTS or 1000000)")
+    add_units_argument(p)
+
+
+def add_units_argument(p: argparse.ArgumentParser) -> None:
+    from compiler.units import mode
+    p.add_argument("--units", choices=mode.MODES, default=None, help=mode.HELP)
 
 
 def add_parse(sub) -> None:

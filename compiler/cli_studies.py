@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import argparse
 
-from compiler.cli_source import LIB_HELP, add_model_arguments
+from compiler.cli_source import LIB_HELP, add_model_arguments, add_units_argument
 
 
 def add_sweep(sub) -> None:
@@ -52,6 +52,7 @@ def add_test(sub) -> None:
     p.add_argument("--accept", "--update", dest="accept", action="store_true",
                    help="write the golden files from a run at rtol 1e-10, creating missing ones "
                         "(never done without this flag)")
+    add_units_argument(p)
     p.set_defaults(run=run_test)
 
 

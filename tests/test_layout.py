@@ -8,7 +8,7 @@ from pathlib import Path
 import compiler
 
 PACKAGE = Path(compiler.__file__).resolve().parent
-STAGES = {"syntax", "model", "structure", "lower", "runtime", "testing", "render", "sweep", "components",
+STAGES = {"syntax", "model", "units", "structure", "lower", "runtime", "testing", "render", "sweep", "components",
           "analysis", "cache"}
 ON_TOP = {"__init__", "__main__", "api", "cli", "cli_options", "cli_outputs", "cli_simulate", "cli_source",
           "cli_studies", "errors", "inspect_report", "pipeline", "simulate"}

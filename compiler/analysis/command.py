@@ -27,6 +27,8 @@ def add_run_parser(sub, lib_help: str) -> None:
     p.add_argument("--plot", metavar="FILE.png", help="also plot the result, one subplot per unit")
     p.add_argument("--max-output-values", type=int, metavar="N",
                    help="refuse runs storing more than N output values (as dyadc simulate)")
+    from compiler.units import mode
+    p.add_argument("--units", choices=mode.MODES, default=None, help=mode.HELP)
     p.set_defaults(run=main_run)
 
 
