@@ -60,6 +60,8 @@ class UnitCheck:
         if found is None:
             found = self.dims[key] = self.declaration_dim(target)
         if isinstance(found, str):          # an offset unit: a value only, never in an equation
+            if ref is None:
+                return None                 # its own default or attribute value: a value
             self.problems.append(declaration_finding(
                 f"`{target.path}` is declared in `{found}`, a unit with an offset, and cannot be "
                 f"used in an equation", getattr(ref, "span", None) or target.span, self.units,
@@ -122,8 +124,8 @@ class UnitCheck:
         """`target = expr` (a default, a modifier, an attribute value), located at `expr`."""
         self.units.at(scope.node)
         value = self.units.of(expr, scope)
-        label = f"`{target.name}`" if what == "binding" else f"the {what} value of `{target.name}`"
-        site = self.units.site("binding", expr, None, (label, "its value" if what == "binding" else "the value"))
+        label = f"`{target.name}`" if what == "binding" else f"the {what} of `{target.name}`"
+        site = self.units.site("binding", expr, None, ("its value", label))
         site.declared = target.span
         site.path, site.type_name = target.node.path, target.node.qualified_name
         self.solver.require(own, value, site)
@@ -181,7 +183,7 @@ class UnitCheck:
                     continue
                 labels = ("left side", "right side")
                 if reference[0] == number:
-                    labels = ("this term", "first term")
+                    labels = ("first term", "this term")
                 elif number == 0:
                     labels = labels[::-1]
                 site = self.units.site("equation", term, reference[1], (labels[1], labels[0]),

@@ -67,12 +67,12 @@ class ExpressionUnits:
         if kind is ast.IfExpr:
             self.of(expr.condition, scope)
             return self.agreeing([expr.then, expr.otherwise], scope, "branch",
-                                 ("the `then` branch", "the `else` branch"))
+                                 ("the `else` branch", "the `then` branch"))
         if kind is ast.ArrayLit:
-            return self.agreeing(list(expr.elements), scope, "array", ("this element", "the first element"))
+            return self.agreeing(list(expr.elements), scope, "array", ("this element", "first element"))
         if kind is ast.Range:
             parts = [expr.start, expr.stop] + ([expr.step] if expr.step is not None else [])
-            return self.agreeing(parts, scope, "range", ("this bound", "the first bound"))
+            return self.agreeing(parts, scope, "range", ("this bound", "first bound"))
         if kind is ast.Comprehension:
             return self.comprehension(expr, scope)
         if kind is ast.Boolean:
@@ -126,11 +126,13 @@ class ExpressionUnits:
             return self.sum([first] + [link.right for link in links], scope)
         if op in PRODUCT_OPS:
             first, links = ast.left_chain(expr, PRODUCT_OPS)
-            result = _factor(self.of(first, scope))
-            for link in links:
-                right = _factor(self.of(link.right, scope))
+            result = self.of(first, scope)
+            for link in links:          # a literal factor takes the unit the product needs
+                right = self.of(link.right, scope)
                 if result is None or right is None:
                     result = None
+                elif result is FREE or right is FREE:
+                    result = FREE
                 elif link.op in ("*", ".*"):
                     result = result * right
                 else:
@@ -181,8 +183,7 @@ class ExpressionUnits:
             self.require(DIMENSIONLESS, _factor(base),
                          self.site("base", expr.left, None, ("the base", "")))
             return DIMENSIONLESS
-        base = _factor(base)
-        return None if base is None else base ** exponent
+        return base if base is None or base is FREE else base ** exponent
 
     def varies(self, expr: Any, scope: EvalScope) -> bool:
         """Whether `expr` names a variable or `time` (else it is constant during a run)."""
@@ -199,8 +200,8 @@ class ExpressionUnits:
     def call(self, expr: ast.Call, scope: EvalScope) -> Any:
         name, args = expr.function, expr.args
         if name in ("der", "D") and len(args) == 1:
-            inner = _factor(self.of(args[0], scope))
-            return None if inner is None else inner / SECONDS
+            inner = self.of(args[0], scope)
+            return inner if inner is None or inner is FREE else inner / SECONDS
         if name == "ifelse" and len(args) == 3:
             self.of(args[0], scope)
             return self.agreeing([args[1], args[2]], scope, "branch",
@@ -213,10 +214,10 @@ class ExpressionUnits:
             self.agreeing(list(args), scope, "argument", ("the second argument", "the first argument"))
             return DIMENSIONLESS
         if name == "sqrt" and len(args) == 1:
-            inner = _factor(self.of(args[0], scope))
-            return None if inner is None else inner ** Fraction(1, 2)
+            inner = self.of(args[0], scope)
+            return inner if inner is None or inner is FREE else inner ** Fraction(1, 2)
         if name in AGREEING:
-            return self.agreeing(list(args), scope, "argument", ("this argument", "the first argument"))
+            return self.agreeing(list(args), scope, "argument", ("this argument", "first argument"))
         if name in SAME_UNIT and args:
             for arg in args[1:]:
                 self.of(arg, scope)
@@ -228,8 +229,10 @@ class ExpressionUnits:
         if name in PURE_NUMBERS:
             return FREE
         if name in ("dot", "cross") and len(args) == 2:
-            left, right = _factor(self.of(args[0], scope)), _factor(self.of(args[1], scope))
-            return None if left is None or right is None else left * right
+            left, right = self.of(args[0], scope), self.of(args[1], scope)
+            if left is None or right is None or left is FREE or right is FREE:
+                return None if left is None or right is None else FREE
+            return left * right
         return None                     # a library or Julia function: its unit is not declared
 
     def comprehension(self, expr: ast.Comprehension, scope: EvalScope) -> Any:
@@ -255,7 +258,7 @@ def _member(node: Any, name: str) -> Any:
 
 
 def _factor(unit: Any) -> Any:
-    """A literal as a factor of a product is a pure number."""
+    """A literal where a dimensionless value is required is a pure number."""
     return DIMENSIONLESS if unit is FREE else unit
 
 

@@ -82,13 +82,12 @@ def mismatch_finding(mismatch: Mismatch) -> Finding:
                        f"{_factor_text(mismatch.factor)}")
         else:
             message = f"units do not match in {what}: {reference_label} {_short(left)}, {term_label} {_short(right)}"
-        notes = [(f"{_text(site.other)} is {describe(left)}", site.other),
+        reference = _text(site.other) if site.other is not None else reference_label
+        notes = [(f"{reference} is {describe(left)}", site.other or declaration_line(site.declared)),
                  (f"{_text(site.span)} is {describe(right)}", None)]
     for name, span in mismatch.inferred:
         if span is not None and span != site.span and span != site.other:
             notes.append((f"the unit of `{name}` (declared without one) is inferred here", span))
-    if site.declared is not None:
-        notes.append(("declared here", site.declared))
     hint = HINTS.get(site.kind, HINTS["equation"])
     if mismatch.factor is not None:
         hint = ("declare both in one unit (prefixes included), or convert explicitly with the "
@@ -98,8 +97,20 @@ def mismatch_finding(mismatch: Mismatch) -> Finding:
 
 def declaration_finding(message: str, span: Span | None, units: Any, hint: str | None = None,
                         declared: Span | None = None) -> Finding:
-    notes = [("declared here", declared)] if declared is not None and declared != span else []
+    notes = [("declared here", declaration_line(declared))] if declared is not None and declared != span else []
     return Finding(message, span, notes, hint, [units.path])
+
+
+def declaration_line(span: Span | None) -> Span | None:
+    """A declaration's span without its doc string: the first of its lines that is not one."""
+    if span is None:
+        return None
+    for line in range(span.line, span.end_line + 1):
+        text = source_line(span.file, line)
+        if text is not None and text.strip() and not text.lstrip().startswith('"'):
+            column = len(text) - len(text.lstrip()) + 1
+            return Span(span.file, line, column, line, len(text.rstrip()))
+    return span
 
 
 def _short(unit: Unit) -> str:

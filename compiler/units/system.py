@@ -181,6 +181,14 @@ def convert_value(value: float, given: str, declared: str) -> float:
     return value * conversion_factor(given, declared)
 
 
+def describe_kind(text: str) -> str:
+    """The kind of quantity a unit string measures, as a value conversion sees it (the radian
+    counts): `kg.m/s2`, `rad/s`, `K` for a temperature in degC; a UnitError if unreadable."""
+    if is_offset_unit(text):
+        return "K"
+    return parse_unit(text).dimension(angles=True)
+
+
 def _to_kelvin(value: float, unit: str) -> float:
     if unit in OFFSET_UNITS:
         scale, offset = OFFSET_UNITS[unit]

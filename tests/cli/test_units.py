@@ -1,11 +1,11 @@
-"""compiler.model.units: the unit strings of the library and of `-p NAME=VALUE UNIT` read and convert."""
+"""compiler.units.system: the unit strings of the library and of `-p NAME=VALUE UNIT` read and convert."""
 import math
 import re
 from pathlib import Path
 
 import pytest
 
-from compiler.model.units import UnitError, conversion_factor, parse_unit
+from compiler.units.system import UnitError, conversion_factor, parse_unit
 
 ROOT = Path(__file__).resolve().parents[2]
 
