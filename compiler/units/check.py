@@ -59,7 +59,7 @@ class UnitCheck:
         found = self.dims.get(key)
         if found is None:
             found = self.dims[key] = self.declaration_dim(target)
-        if isinstance(found, str):          # an offset unit: a value only, never in an equation
+        if type(found) is str:              # an offset unit: a value only, never in an equation
             if ref is None:
                 return None                 # its own default or attribute value: a value
             self.problems.append(declaration_finding(

@@ -37,7 +37,7 @@ class Dim:
         return Dim(self.unit / other.unit, powers)
 
     def __pow__(self, power: int | Fraction) -> "Dim":
-        powers = tuple((v, _exact(e * power)) for v, e in self.powers)
+        powers = tuple((v, _exact(e * power)) for v, e in self.powers) if self.powers else ()
         return Dim(self.unit ** power, powers)
 
 
@@ -117,7 +117,7 @@ class Solver:
 
     def require(self, left: Any, right: Any, site: Site) -> None:
         """`left` and `right` (Dims, FREE or None) must be one unit."""
-        if isinstance(left, Dim) and isinstance(right, Dim):
+        if type(left) is Dim and type(right) is Dim:
             self.constraints.append((left, right, site))
 
     def solve(self) -> list[Mismatch]:
@@ -142,7 +142,8 @@ class Solver:
                 continue
             if unknown:
                 (var, exponent), = unknown.items()
-                self.values[var] = ONE / unit if exponent == 1 else unit ** (Fraction(-1) / exponent)
+                self.values[var] = ONE / unit if exponent == 1 else unit if exponent == -1 \
+                    else unit ** _exact(Fraction(-1) / exponent)
                 self.fixed_at[var] = site.span
                 queue.extend(waiting.pop(var, []))
                 continue
@@ -176,9 +177,10 @@ class Solver:
                         unknown[var] = total
                     else:
                         unknown.pop(var, None)
+                elif exponent == 1:
+                    unit = unit * value if sign == 1 else unit / value
                 else:
-                    unit = unit * value ** (sign * exponent) if exponent != 1 or sign != 1 \
-                        else unit * value
+                    unit = unit * value ** (sign * exponent)
         return unit, unknown
 
     def unit_of(self, dim: Dim) -> Unit:

@@ -14,6 +14,7 @@ import numpy as np
 from compiler.errors import DyadError
 from compiler.model.expressions import EvalScope, Mode, apply_indices, evaluate, is_node_like, \
     iteration_values
+from compiler.model.instantiate import ParameterInstance, VariableInstance
 from compiler.syntax import ast
 from compiler.units.constraints import DIMENSIONLESS, FREE, Dim, Site
 from compiler.units.system import SECOND
@@ -25,6 +26,7 @@ SAME_UNIT = {"abs", "floor", "ceil", "round", "trunc", "identity", "transpose", 
              "noEvent", "pre", "smooth", "fill", "hcat", "vcat", "first", "last"}
 AGREEING = {"min", "max", "minimum", "maximum", "clamp", "mod", "rem", "hypot"}
 PURE_NUMBERS = {"sign", "size", "length", "zeros", "ones", "div", "initial", "not", "integer"}
+DECLARATIONS = (ParameterInstance, VariableInstance)
 SUM_OPS = frozenset({"+", "-", ".+", ".-"})
 PRODUCT_OPS = frozenset({"*", "/", ".*", "./"})
 COMPARISONS = frozenset({"<", "<=", ">", ">=", "==", "!="})
@@ -81,11 +83,9 @@ class ExpressionUnits:
 
     def ref(self, ref: ast.Ref, scope: EvalScope) -> Any:
         target = self.target(ref, scope)
-        if target is None or target is FREE or isinstance(target, Dim):
-            return target
-        if is_node_like(target) or isinstance(target, np.ndarray):
-            return None
-        return self.declared(target, ref)
+        if type(target) in DECLARATIONS:
+            return self.declared(target, ref)
+        return target if target is None or target is FREE or type(target) is Dim else None
 
     def target(self, ref: ast.Ref, scope: EvalScope) -> Any:
         """The parameter or variable instance (or node) `ref` names; FREE for a loop variable,
@@ -189,7 +189,7 @@ class ExpressionUnits:
         """Whether `expr` names a variable or `time` (else it is constant during a run)."""
         if isinstance(expr, ast.Ref):
             target = self.target(expr, scope)
-            return target is SECONDS or hasattr(target, "connector_kind")
+            return target is SECONDS or type(target) is VariableInstance
         children = {ast.BinaryOp: lambda e: (e.left, e.right), ast.UnaryOp: lambda e: (e.operand,),
                     ast.Call: lambda e: e.args, ast.IfExpr: lambda e: (e.condition, e.then, e.otherwise)}
         inner = children.get(type(expr))
@@ -262,14 +262,18 @@ def _factor(unit: Any) -> Any:
     return DIMENSIONLESS if unit is FREE else unit
 
 
-def _constant_exponent(expr: Any, scope: EvalScope) -> Fraction | None:
+def _constant_exponent(expr: Any, scope: EvalScope) -> int | Fraction | None:
     """The exponent when it is written as a number (`2`, `-1`, `0.5`, `1/3`), else None."""
+    if type(expr) is ast.Number and type(expr.value) is int:
+        return expr.value
     if not _literal_only(expr):
         return None
     try:
         value = float(evaluate(expr, scope, Mode.NUMERIC))
     except (DyadError, TypeError, ValueError):
         return None
+    if value == int(value):
+        return int(value)
     exact = Fraction(value).limit_denominator(1000)
     return exact if abs(float(exact) - value) <= 1e-12 * max(1.0, abs(value)) else None
 

@@ -44,6 +44,9 @@ class Unit:
                     self.angle - other.angle)
 
     def __pow__(self, power: int | Fraction) -> "Unit":
+        if type(power) is int:
+            return Unit(self.factor ** power, tuple(a * power for a in self.exponents),
+                        self.angle * power)
         return Unit(self.factor ** float(power), tuple(_exact(a * power) for a in self.exponents),
                     _exact(self.angle * power))
 
