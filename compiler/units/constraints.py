@@ -97,6 +97,7 @@ class Mismatch:
     right: Unit
     factor: float | None                # compatible units: how many `right` in one `left`
     inferred: list[tuple[str, Span | None]] = field(default_factory=list)
+    labels: tuple[str | None, str | None] = (None, None)    # the units as declared, if declared
 
 
 class Solver:
@@ -196,7 +197,7 @@ class Solver:
         a, b = self.unit_of(left), self.unit_of(right)
         factor = a.factor / b.factor if a.exponents == b.exponents else None
         inferred = [(self.names[v], self.fixed_at[v]) for v, _ in left.powers + right.powers]
-        return Mismatch(site, a, b, factor, inferred)
+        return Mismatch(site, a, b, factor, inferred, (left.label, right.label))
 
 
 def _order(span: Span | None) -> tuple:

@@ -67,24 +67,24 @@ class Finding:
 def mismatch_finding(mismatch: Mismatch) -> Finding:
     site = mismatch.site
     term_label, reference_label = site.labels
+    left_as, right_as = mismatch.labels
     what = WHAT.get(site.kind, "this expression")
     if site.kind in ("argument", "exponent", "base") and site.other is None:
-        message = f"{term_label} must be dimensionless, but its unit is {_short(mismatch.right)}"
+        message = f"{term_label} must be dimensionless, but its unit is {_short(mismatch.right, right_as)}"
         if site.kind == "base":
             message = (f"the base of this power must be dimensionless, since its exponent is not a "
-                       f"constant number, but its unit is {_short(mismatch.right)}")
-        notes = [(f"{_text(site.span)} is {describe(mismatch.right)}", None)]
+                       f"constant number, but its unit is {_short(mismatch.right, right_as)}")
+        notes = [(f"{_text(site.span)} is {_described(mismatch.right, right_as)}", None)]
     else:
         left, right = mismatch.left, mismatch.right
+        shown = f"{reference_label} {_short(left, left_as)}, {term_label} {_short(right, right_as)}"
+        message = f"units do not match in {what}: {shown}"
         if mismatch.factor is not None:
-            message = (f"units do not match in {what}: {reference_label} {_short(left)}, {term_label} "
-                       f"{_short(right)}: the same dimension, but they differ by a factor of "
-                       f"{_factor_text(mismatch.factor)}")
-        else:
-            message = f"units do not match in {what}: {reference_label} {_short(left)}, {term_label} {_short(right)}"
+            message += (f": the same dimension, but they differ by a factor of "
+                        f"{_factor_text(mismatch.factor)}")
         reference = _text(site.other) if site.other is not None else reference_label
-        notes = [(f"{reference} is {describe(left)}", site.other or declaration_line(site.declared)),
-                 (f"{_text(site.span)} is {describe(right)}", None)]
+        notes = [(f"{reference} is {_described(left, left_as)}", site.other or declaration_line(site.declared)),
+                 (f"{_text(site.span)} is {_described(right, right_as)}", None)]
     for name, span in mismatch.inferred:
         if span is not None and span != site.span and span != site.other:
             notes.append((f"the unit of `{name}` (declared without one) is inferred here", span))
@@ -113,8 +113,17 @@ def declaration_line(span: Span | None) -> Span | None:
     return span
 
 
-def _short(unit: Unit) -> str:
-    return describe(unit).split(" (")[0]
+def _short(unit: Unit, declared: str | None = None) -> str:
+    return declared if declared else describe(unit).split(" (")[0]
+
+
+def _described(unit: Unit, declared: str | None) -> str:
+    """`kg/s (kg/s)` is said once; a declared unit keeps its spelling, with the SI base form."""
+    if not declared:
+        return describe(unit)
+    base_form = unit.dimension()
+    scale = "" if abs(unit.factor - 1.0) < 1e-9 else f"{unit.factor:g} "
+    return declared if f"{scale}{base_form}" == declared else f"{declared} ({scale}{base_form})"
 
 
 def _factor_text(factor: float) -> str:

@@ -141,7 +141,7 @@ OFFSET_UNITS = {"degC": (1.0, 273.15), "°C": (1.0, 273.15),
 
 # Named units a message shows a dimension with (factor 1), before falling back to base units.
 NAMED = ("V", "A", "Ohm", "W", "J", "N", "Pa", "H", "F", "kg", "m", "s", "K", "mol", "cd", "m2",
-         "m3", "m/s", "m/s2", "N/m", "N.s/m", "kg.m2", "m3/s", "1/s", "1")
+         "m3", "m/s", "m/s2", "N/m", "kg.m2", "m3/s", "1/s", "1")
 
 _TOKEN = re.compile(r"\s*(?:(?P<symbol>[A-Za-z_%°µμΩ]+)|(?P<number>\d+)|(?P<op>\*\*|[.*/^()·-]))")
 _PARSED: dict[str, Unit] = {}

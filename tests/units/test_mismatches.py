@@ -142,7 +142,7 @@ def test_millimetres_against_metres_name_the_factor(units):
     """
     findings = units.findings(text)
     assert [f.message for f in findings] == [
-        "units do not match in this equation: left side 0.001 m, right side m: the same "
+        "units do not match in this equation: left side mm, right side m: the same "
         "dimension, but they differ by a factor of 0.001"]
 
 
