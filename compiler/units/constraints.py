@@ -15,7 +15,7 @@ from fractions import Fraction
 from typing import Any
 
 from compiler.errors import Span
-from compiler.units.system import ONE, Unit
+from compiler.units.quantity import ONE, Unit
 
 
 class Dim:

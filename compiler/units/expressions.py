@@ -17,7 +17,7 @@ from compiler.model.expressions import EvalScope, Mode, apply_indices, evaluate,
 from compiler.model.instantiate import ParameterInstance, VariableInstance
 from compiler.syntax import ast
 from compiler.units.constraints import DIMENSIONLESS, FREE, Dim, Site
-from compiler.units.system import SECOND
+from compiler.units.quantity import SECOND
 
 SECONDS = Dim(SECOND, (), "s")
 DIMENSIONLESS_ARGUMENTS = {"sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh",

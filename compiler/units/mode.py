@@ -47,7 +47,14 @@ def checked(model: Any) -> list[Finding] | None:
     if current_mode() == "off":
         return None
     from compiler.units.check import check_units
-    findings = check_units(model)
+    try:
+        findings = check_units(model)
+    except DyadError:
+        raise
+    except Exception as err:        # a bug of the check must not stop a model that flattened
+        warnings.warn(f"the unit check stopped on an internal error ({type(err).__name__}: {err}) "
+                      f"and checked nothing; this is a bug in dyadc", stacklevel=2)
+        return None
     report(findings)
     return findings
 
