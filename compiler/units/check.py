@@ -127,7 +127,7 @@ class UnitCheck:
         label = f"`{target.name}`" if what == "binding" else f"the {what} of `{target.name}`"
         site = self.units.site("binding", expr, None, ("its value", label))
         site.declared = target.span
-        site.path, site.type_name = target.node.path, target.node.qualified_name
+        site.path, site.instance = target.node.path, target.node.decl_span
         self.solver.require(own, value, site)
 
     # --------------------------------------------------------------------------- relations

@@ -85,7 +85,7 @@ class Site:
     other: Span | None
     labels: tuple[str, str]
     path: str
-    type_name: str
+    instance: Span | None               # where that instance is declared
     statement: Span | None = None
     declared: Span | None = None        # a binding: where the bound name is declared
 

@@ -40,16 +40,16 @@ class ExpressionUnits:
     def __init__(self, declared: Callable[[Any, Any], Any], require: Callable[[Any, Any, Site], None]):
         self.declared = declared
         self.require = require
-        self.path, self.type_name = "", ""
+        self.path, self.instance = "", None
 
     def at(self, node: Any) -> None:
         """The instance whose relations are checked next (named in messages)."""
-        self.path, self.type_name = node.path, node.qualified_name
+        self.path, self.instance = node.path, node.decl_span
 
     def site(self, kind: str, term: Any, other: Any, labels: tuple[str, str],
              statement: Any = None) -> Site:
         return Site(kind, getattr(term, "span", None), getattr(other, "span", None), labels,
-                    self.path, self.type_name, statement)
+                    self.path, self.instance, statement)
 
     # -------------------------------------------------------------------------------- terms
 

@@ -40,11 +40,12 @@ class Finding:
     notes: list[tuple[str, Span | None]] = field(default_factory=list)
     hint: str | None = None
     paths: list[str] = field(default_factory=list)
+    instance: Span | None = None        # where the first instance in `paths` is declared
 
     def error(self) -> DyadError:
         """As the located error `--units error` raises (the instances as the last note)."""
         notes = [Note(text, span) for text, span in self.notes]
-        notes.append(Note(self.where()))
+        notes.append(Note(self.where(), self.instance))
         return DyadError(self.message, self.span, self.hint, notes)
 
     def where(self) -> str:
@@ -55,13 +56,13 @@ class Finding:
     def to_dict(self) -> dict:
         return {"message": self.message, "span": _span_dict(self.span), "hint": self.hint,
                 "notes": [[text, _span_dict(span)] for text, span in self.notes],
-                "paths": list(self.paths)}
+                "paths": list(self.paths), "instance": _span_dict(self.instance)}
 
     @staticmethod
     def from_dict(data: dict) -> "Finding":
         return Finding(str(data["message"]), _span(data["span"]),
                        [(str(text), _span(span)) for text, span in data["notes"]],
-                       data["hint"], [str(p) for p in data["paths"]])
+                       data["hint"], [str(p) for p in data["paths"]], _span(data.get("instance")))
 
 
 def mismatch_finding(mismatch: Mismatch) -> Finding:
@@ -92,13 +93,13 @@ def mismatch_finding(mismatch: Mismatch) -> Finding:
     if mismatch.factor is not None:
         hint = ("declare both in one unit (prefixes included), or convert explicitly with the "
                 f"factor {_factor_text(mismatch.factor)} written as a parameter with its unit")
-    return Finding(message, site.span, notes, hint, [site.path])
+    return Finding(message, site.span, notes, hint, [site.path], site.instance)
 
 
 def declaration_finding(message: str, span: Span | None, units: Any, hint: str | None = None,
                         declared: Span | None = None) -> Finding:
     notes = [("declared here", declaration_line(declared))] if declared is not None and declared != span else []
-    return Finding(message, span, notes, hint, [units.path])
+    return Finding(message, span, notes, hint, [units.path], units.instance)
 
 
 def declaration_line(span: Span | None) -> Span | None:
