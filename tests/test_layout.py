@@ -8,8 +8,8 @@ from pathlib import Path
 import compiler
 
 PACKAGE = Path(compiler.__file__).resolve().parent
-STAGES = {"syntax", "julia", "model", "structure", "lower", "runtime", "testing", "render", "sweep", "components",
-          "analysis", "cache", "linear", "cli"}
+STAGES = {"syntax", "julia", "model", "units", "structure", "lower", "runtime", "testing", "render", "sweep",
+          "components", "analysis", "cache", "linear", "cli"}
 ON_TOP = {"__init__", "__main__", "api", "compiled_runs", "errors", "pipeline", "simulate"}
 
 

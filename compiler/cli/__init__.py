@@ -89,7 +89,8 @@ def run_command(argv: list[str] | None = None) -> int:
         from compiler.model.size_limits import element_limit
         options.check_arguments(arguments)
         options.check_paths(args)
-        with element_limit(getattr(args, "max_elements", None)):
+        from compiler.units.mode import units_mode
+        with element_limit(getattr(args, "max_elements", None)), units_mode(getattr(args, "units", None)):
             return args.run(args) or 0
     except DyadError as err:
         print(err.format(), file=sys.stderr)

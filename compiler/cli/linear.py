@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import sys
 
-from compiler.cli.arguments import add_lib_argument
+from compiler.cli.arguments import add_lib_argument, add_units_argument
 
 LINEARIZE_HELP = "linearize a model at an operating point: (A, B, C, D) from inputs to outputs"
 CLOSED_LOOP = ("sensitivity", "comp_sensitivity", "loop_transfer")
@@ -18,6 +18,7 @@ def add_linearize(sub) -> None:
                        "eliminated exactly through the Jacobians (docs/analysis.md).")
     p.add_argument("model", metavar="MODEL", help="file path or qualified name")
     add_lib_argument(p)
+    add_units_argument(p)
     p.add_argument("--inputs", nargs="+", default=[], metavar="NAME",
                    help="free inputs or analysis points (default: every free top-level input)")
     p.add_argument("--outputs", nargs="+", default=[], metavar="NAME",

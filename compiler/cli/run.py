@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from compiler.cli.arguments import add_lib_argument
+from compiler.cli.arguments import add_lib_argument, add_units_argument
 
 RUN_HELP = ("run an `analysis` block (TransientAnalysis; LinearAnalysis, ClosedLoopAnalysis, "
             "ClosedLoopSensitivityAnalysis) and write its result (CSV, or JSON and plots)")
@@ -30,6 +30,7 @@ def add_run(sub) -> None:
     p.add_argument("--plot", metavar="FILE.png", help="also plot the result, one subplot per unit")
     p.add_argument("--max-output-values", type=int, metavar="N",
                    help="refuse runs storing more than N output values (as dyadc simulate)")
+    add_units_argument(p)
     p.set_defaults(run=run_analysis)
 
 

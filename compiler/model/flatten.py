@@ -36,7 +36,11 @@ def flatten_model(spec: str, lib_dirs: Sequence[str] = ()) -> FlatSystem:
 
 @fewer_collections()
 def flatten_resolved(resolved: Resolved, library: Library) -> FlatSystem:
-    return Flattener(instantiate(resolved, library)).run()
+    from compiler.units.mode import checked      # units of the instance tree (compiler/units/)
+    model = instantiate(resolved, library)
+    flat = Flattener(model).run()
+    flat.unit_findings = checked(model)
+    return flat
 
 
 class Flattener:
