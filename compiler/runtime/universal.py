@@ -150,15 +150,6 @@ def watched_levels(selection: Mapping, dummies: frozenset[str], stand_in_pairs, 
     return out
 
 
-def simulate(model: CompiledModel, stop: float | None = None, *, switcher=None, **settings):
-    """variants.simulate (the driver's arguments); a model that carries its universal system
-    instead of its variants switches among the state sets made from it."""
-    if switcher is None and model.universal is not None and not model.variants \
-            and SELECTION in model.metadata:
-        switcher = UniversalSwitcher(model)
-    return variants.simulate(model, stop, switcher=switcher, **settings)
-
-
 class UniversalSwitcher:
     """The runtime's StateSetSwitcher for a model with a universal system: at a switch point, the
     model of the choice variants.dummy_choice makes there (as VariantSwitcher does among compiled

@@ -20,7 +20,6 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from . import driver
 from .errors import SimulationFailed
 from .model import CompiledModel
 from .selection_rules import level_choice, next_candidates, present_folds
@@ -85,12 +84,6 @@ def _selection_entries(values: Mapping[str, float]) -> dict[int, list[tuple[int,
     return found
 
 
-def simulate(model: CompiledModel, stop: float | None = None, *, switcher=None, **settings):
-    """The driver's simulate (driver.simulate: same arguments); a model that carries its state-set
-    variants switches among them unless the caller gives another switcher."""
-    if switcher is None and model.variants:
-        switcher = VariantSwitcher(model)
-    return driver.simulate(model, stop, switcher=switcher, **settings)
 
 
 def variant_models(model: CompiledModel) -> dict[frozenset, CompiledModel]:
