@@ -36,7 +36,11 @@ def flatten_model(spec: str, lib_dirs: Sequence[str] = ()) -> FlatSystem:
 
 @fewer_collections()
 def flatten_resolved(resolved: Resolved, library: Library) -> FlatSystem:
-    return Flattener(instantiate(resolved, library)).run()
+    from compiler.units.mode import checked      # units of the instance tree (compiler/units/)
+    model = instantiate(resolved, library)
+    flat = Flattener(model).run()
+    flat.unit_findings = checked(model)
+    return flat
 
 
 class Flattener:
@@ -78,11 +82,9 @@ def check_library(root_dir: str) -> list[str]:
     from compiler.model.model_check import check_model
     from pathlib import Path
     library = Library([root_dir])
-    lines: list[str] = []
-    try:
-        definitions = library.definitions_under(Path(root_dir))
-    except DyadError as err:
-        return [err.format()]
+    unparsed: list[DyadError] = []          # every file that does not parse is reported
+    definitions = library.definitions_under(Path(root_dir), unparsed)
+    lines = [err.format() for err in unparsed]
     for resolved in definitions:
         definition = resolved.definition
         if not isinstance(definition, ast.ComponentDef) or definition.partial:

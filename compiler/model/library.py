@@ -314,15 +314,23 @@ class Library:
 
     # ---------------------------------------------------------------------------- listing
 
-    def definitions_under(self, folder: str | os.PathLike) -> list[Resolved]:
-        """Every definition in the .dyad files below `folder` (parses them all), sorted by name."""
+    def definitions_under(self, folder: str | os.PathLike,
+                          errors: list[DyadError] | None = None) -> list[Resolved]:
+        """Every definition in the .dyad files below `folder` (parses them all), sorted by name.
+        With `errors`, a file that does not parse is added to it and the others are still read."""
         folder = Path(folder).resolve()
         out: list[Resolved] = []
         for path in sorted(folder.rglob("*.dyad")):
             package = self.package_of_file(path)
             if package is None:
                 package = ".".join(path.parent.relative_to(folder).parts)
-            parsed = self.parse(path)
+            try:
+                parsed = self.parse(path)
+            except DyadError as err:
+                if errors is None:
+                    raise
+                errors.append(err)
+                continue
             for definition in parsed.definitions:
                 out.append(Resolved(qualify(package, definition.name), definition, package, parsed))
         return sorted(out, key=lambda r: r.qualified_name)
