@@ -1,5 +1,6 @@
 """The package layout shows the pipeline (docs/architecture.md): one folder per stage, a few
-modules on top, and no two modules that import each other."""
+modules on top, no import cycle of any length (function-local imports count), and the Julia
+front end between syntax and model."""
 from __future__ import annotations
 
 import ast
