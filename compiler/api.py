@@ -53,7 +53,7 @@ def simulate_compiled(compilation: Compilation | CachedCompilation, stop: float,
         from compiler.lower.state_set_variants import Switcher
         switcher = Switcher(compilation.flat, compilation.analysis, compilation.variant,
                             compilation.model)
-    from compiler.model.run_checks import checked_run       # missing parameter values, singular start
+    from compiler.run_checks import checked_run       # missing parameter values, singular start
     with checked_run(compilation, params, start), runtime_errors(compilation.reduced, compilation.flat):
         result = runtime.simulate(compilation.model, options=options, switcher=switcher)
     return _with_compile_times(result, compilation.timings)

@@ -26,7 +26,7 @@ from compiler.lower.state_set_levels import _priority_function, monitored_levels
 from compiler.lower.regular_subsets import augment_path
 from compiler.lower.to_casadi import lower
 from compiler.runtime.variants import DUMMIES, SELECTION, dummy_choice
-from compiler.structure.collection import fewer_collections
+from compiler.model.collection import fewer_collections
 from compiler.structure.differentiate import partial
 from compiler.structure.indexed import IndexedSystem
 from compiler.structure.reduce import Analysis, StructureReport, reduce
@@ -148,7 +148,7 @@ class Switcher:
             variant.siblings = cache
             cache[variant.states] = variant
         if self.c_code and variant.model.native_library is None:
-            from compiler.lower.ccodegen import compile_c
+            from compiler.cache.c_code import compile_c
             variant.model = compile_c(variant.model)
         return variant.model
 

@@ -221,10 +221,6 @@ def evaluate(expr: ast.Expr, scope: EvalScope, mode: Mode) -> Any:
     return handler(expr, scope, mode)
 
 
-def evaluate_numeric_value(expr: ast.Expr, scope: EvalScope, mode: Mode) -> Any:
-    return _num(evaluate(expr, scope, mode), getattr(expr, "span", None))
-
-
 def _number(expr: ast.Number, scope: EvalScope, mode: Mode) -> Any:
     if isinstance(expr.value, bool):
         return sympy.Integer(int(expr.value))

@@ -20,8 +20,8 @@ from compiler.model.flatten_report import format_flat, summarize  # noqa: F401  
 from compiler.model.instantiate import Instance, Model, ParameterInstance, VariableInstance, instantiate
 from compiler.model.size_limits import check_elements
 from compiler.model.library import Library, Resolved, load_model, resolve_model  # noqa: F401
-from compiler.structure.collection import fewer_collections
-from compiler.structure.differentiate import free_symbols
+from compiler.model.collection import fewer_collections
+from compiler.model.symbols import free_symbols
 from compiler.syntax import ast
 
 

@@ -4,7 +4,7 @@ import gc
 
 import pytest
 
-from compiler.structure.collection import YOUNG_THRESHOLD, fewer_collections
+from compiler.model.collection import YOUNG_THRESHOLD, fewer_collections
 
 
 @pytest.fixture
