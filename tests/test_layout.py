@@ -47,11 +47,8 @@ LAYER = {name: level for level, names in enumerate(LAYERS) for name in names}
 KNOWN_REVERSE_EDGES: set[tuple[str, str]] = {
     ("compiler.lower.state_set_variants", "compiler.cache.c_code"),
 }
-# The sorted modules of a cycle: the Julia reader's values call back into the model's evaluator;
-# it leaves with the Julia reader's own package compiler/julia/ (issue 31 item 3, branch modelsplit).
-KNOWN_CYCLES: set[tuple[str, ...]] = {
-    ("compiler.model.expressions", "compiler.model.julia_objects", "compiler.model.julia_values"),
-}
+# The sorted modules of each known cycle (none now).
+KNOWN_CYCLES: set[tuple[str, ...]] = set()
 
 
 @dataclass(frozen=True)

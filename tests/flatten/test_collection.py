@@ -1,4 +1,4 @@
-"""compiler.structure.collection: the compiler's garbage-collection thresholds are raised inside
+"""compiler.model.collection: the compiler's garbage-collection thresholds are raised inside
 and the caller's setting comes back afterwards, also when nested or on an error."""
 import gc
 

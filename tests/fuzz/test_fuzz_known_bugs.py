@@ -34,8 +34,17 @@ def _oscillator_with(work, old: str, new: str) -> str:
 
 
 def _assert_clear(outcome, seconds):
+    """No hang, internal error or traceback. A success passes too: every test adds the exit status
+    and the message it expects."""
     found = problems(outcome, seconds)
     assert not found, f"{'; '.join(found)}\n{outcome.describe()}"
+
+
+def _assert_plain_error(outcome, first_line: str):
+    """Exit 1 with `first_line` as the first line of stderr (a clear error, never a success)."""
+    assert outcome.status == 1, outcome.describe()
+    assert outcome.stderr.splitlines()[0] == first_line, outcome.describe()
+    assert "internal" not in outcome.stderr and "Traceback" not in outcome.stderr, outcome.describe()
 
 
 def _assert_located(outcome, path: str, line: int, words: str):
@@ -104,14 +113,19 @@ def test_a_span_shorter_than_round_off_is_a_clear_error(fuzz_base):
     # found by the fuzzer: was an internal IndexError (an empty list of segment ends)
     work = example_dir(fuzz_base)
     argv = ["simulate", str(write_seed(work, OSCILLATOR)), "--stop", "1e-14", "--points", "5"]
-    _assert_clear(run_in_process(argv, work), HANG_LIMIT_S)
+    outcome = run_in_process(argv, work)
+    _assert_clear(outcome, HANG_LIMIT_S)
+    _assert_plain_error(outcome, "error: the span from --start 0 to --stop 1e-14 is shorter than round-off")
 
 
 def test_an_absolute_tolerance_below_what_a_solver_resolves_is_refused(fuzz_base):
     # found by the fuzzer: --atol 1e-300 ran for minutes
     work = example_dir(fuzz_base)
     argv = ["simulate", str(write_seed(work, OSCILLATOR)), "--stop", "1", "--points", "5", "--atol", "1e-300"]
-    _assert_clear(run_in_process(argv, work, seconds=HANG_LIMIT_S), HANG_LIMIT_S)
+    outcome = run_in_process(argv, work, seconds=HANG_LIMIT_S)
+    _assert_clear(outcome, HANG_LIMIT_S)
+    _assert_plain_error(outcome, "error: --atol 1e-300 is below 1e-100: no solver resolves it")
+    assert "hint: tolerances are relative (--rtol) or absolute (--atol) errors" in outcome.stderr, outcome.describe()
 
 
 # --------------------------------------------- was power-tower-hangs: 9^387420489 evaluated exactly

@@ -14,7 +14,6 @@ import numpy as np
 import pytest
 
 from compiler import api
-from compiler.errors import SimulationError
 from tests.hard import slider_crank_reference as reference
 from tests.hard.conftest import compile_hard
 
@@ -69,17 +68,26 @@ def test_with_the_crank_as_state_the_closure_and_guide_constraints_hold(crank_st
     np.testing.assert_allclose(res["slider.phi"], 0.0, atol=1e-12)
 
 
+JOINTS = ("crank_joint", "rod_joint", "slider_joint")
+
+
 @pytest.mark.parametrize("rtol", [1e-9, 1e-10])
-def test_equal_priorities_run_correctly_or_stop_naming_the_constraint(equal_priorities, rtol):
-    # The rod angle (a first choice of state) is stationary at crank angle +-pi/2: the pivot
-    # monitor must switch the state set there (before: a silent 8.1e-5 rad error at rtol 1e-9).
+def test_equal_priorities_run_through_the_dead_centres_switching_state_sets(equal_priorities, rtol):
+    # The requirement allows a clear stop naming the constraint, but what happens (on every
+    # machine: the choice is made by integer structure and the pivot monitor) is a full run: the
+    # compiler starts from a joint angle that degenerates, the pivot monitor switches the state
+    # set (measured: one switch, at t = 1e-4, slider_joint -> rod_joint) and the run matches the
+    # hand-derived model (before the monitor: a silent 8.1e-5 rad error at rtol 1e-9).
     assert equal_priorities.dynamic
-    try:
-        res = api.simulate_compiled(equal_priorities, 2.0, points=2001, rtol=rtol, atol=rtol)
-    except SimulationError as err:
-        message = str(err)
-        assert err.time_reached is not None and "at t = " in message
-        assert any(word in message for word in ("constraint", "slider_joint", "rod_joint", "crank_joint")), message
-        return
+    res = api.simulate_compiled(equal_priorities, 2.0, points=2001, rtol=rtol, atol=rtol)
+    assert res.time[-1] == 2.0
     check_against_reference(res, scale=rtol / 1e-10)
-    assert res.stats["state_switches"]
+    switches = res.stats["state_switches"]
+    assert switches, "the first state set degenerates: the monitor must switch away from it"
+    for switch in switches:
+        assert 0.0 < switch["time"] < 2.0
+        for side in ("from", "to"):
+            joints = {name.rsplit(".", 1)[0] for name in switch[side]}
+            assert len(joints) == 1 and joints <= set(JOINTS), switch
+            assert sorted(name.rsplit(".", 1)[1] for name in switch[side]) == ["phi", "w"], switch
+        assert switch["from"] != switch["to"]
