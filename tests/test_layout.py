@@ -305,3 +305,31 @@ def test_no_module_uses_a_private_name_of_another_package():
     for name, path in sorted(found.items()):
         offending += private_uses(name, path, found)
     assert offending == []
+
+
+def is_main_block(node: ast.AST) -> bool:
+    test = getattr(node, "test", None)
+    return (isinstance(node, ast.If) and isinstance(test, ast.Compare) and isinstance(test.left, ast.Name)
+            and test.left.id == "__name__")
+
+
+def test_only_the_command_line_parses_arguments_and_prints():
+    """The stages and the packages on top of them return what they made and pass progress and
+    notes to callbacks or as warnings; compiler/cli/ parses and prints (a module's own
+    `if __name__ == "__main__":` script block may print)."""
+    offending = []
+    for name, path in sorted(modules().items()):
+        if layer_name(name) in ("cli", "__main__"):
+            continue
+        stack: list[ast.AST] = [ast.parse(path.read_text(encoding="utf-8"))]
+        while stack:
+            node = stack.pop()
+            if is_main_block(node):
+                continue
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "print":
+                offending.append(f"{path.relative_to(ROOT)}:{node.lineno}: {name} prints")
+            if isinstance(node, ast.Import) and any(a.name == "argparse" for a in node.names) or \
+                    isinstance(node, ast.ImportFrom) and node.module == "argparse":
+                offending.append(f"{path.relative_to(ROOT)}:{node.lineno}: {name} imports argparse")
+            stack.extend(ast.iter_child_nodes(node))
+    assert offending == []

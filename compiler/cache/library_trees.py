@@ -103,16 +103,16 @@ def write_trees(library: Path, folder: Path) -> int:
     return len(kept)
 
 
-def main(argv: list[str] | None = None) -> int:
+def main(argv: list[str] | None = None) -> str:
     """`python -m compiler.cache.library_trees [LIBRARY [FOLDER]]`: the trees of LIBRARY (default:
-    the source checkout's components/) into FOLDER (default: this package's shipped_trees/)."""
+    the source checkout's components/) into FOLDER (default: this package's shipped_trees/); the
+    line that says so."""
     args = sys.argv[1:] if argv is None else argv
     library = Path(args[0]) if args else Path(__file__).resolve().parents[2] / "components"
     folder = Path(args[1]) if len(args) > 1 else TREES_FOLDER
     count = write_trees(library, folder)
-    print(f"{count} parsed trees of {library} in {os.fspath(folder)}")
-    return 0
+    return f"{count} parsed trees of {library} in {os.fspath(folder)}"
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    print(main())
