@@ -8,33 +8,41 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Mapping, Sequence
 
 from compiler import runtime
-from compiler.simulate import simulate_compiled
+from compiler.compiled_runs import simulate_compiled
 
 if TYPE_CHECKING:
     from compiler.model.flat import FlatSystem
     from compiler.pipeline import Compilation
 
-__all__ = ["compile", "flatten", "linearize", "simulate", "simulate_compiled"]
 
-
-def flatten(model_spec: str, lib_dirs: Sequence[str] = ()) -> FlatSystem:
+def flatten(model_spec: str, lib_dirs: Sequence[str] = (), *, units: str | None = None) -> FlatSystem:
+    """`units`: the unit check's mode, "error" (default), "warn" or "off" (compiler/units/mode.py);
+    the findings are in the result's `unit_findings`."""
     from compiler.pipeline import flatten_spec
-    return flatten_spec(model_spec, lib_dirs)[0]
+    from compiler.units.mode import units_mode
+    with units_mode(units):
+        return flatten_spec(model_spec, lib_dirs)[0]
 
 
-def compile(model_spec: str, lib_dirs: Sequence[str] = ()) -> Compilation:  # noqa: A001 - the verb users expect
+def compile(model_spec: str, lib_dirs: Sequence[str] = (), *,  # noqa: A001 - the verb users expect
+            units: str | None = None) -> Compilation:
     from compiler.pipeline import compile_spec
-    return compile_spec(model_spec, lib_dirs)
+    from compiler.units.mode import units_mode
+    with units_mode(units):
+        return compile_spec(model_spec, lib_dirs)
 
 
 def simulate(model_spec: str, stop: float, *, lib_dirs: Sequence[str] = (), start: float = 0.0,
              rtol: float = 1e-6, atol: float = 1e-6, points: int = 501, saveat=None,
              params: Mapping[str, float] | None = None, progress: bool | None = None,
-             cache: bool = False) -> runtime.Result:
+             cache: bool = False, units: str | None = None) -> runtime.Result:
     """Compile and run `model_spec`. `cache=True`: through the compilation cache, as
-    `dyadc simulate` does (docs/cache.md)."""
+    `dyadc simulate` does (docs/cache.md). `units`: "error" (default), "warn" or "off", as
+    `--units` (a warning is a compiler.units.mode.UnitWarning)."""
     from compiler.pipeline import compile_or_load
-    compilation = compile_or_load(model_spec, lib_dirs, cache=cache)
+    from compiler.units.mode import units_mode
+    with units_mode(units):
+        compilation = compile_or_load(model_spec, lib_dirs, cache=cache)
     return simulate_compiled(compilation, stop, start=start, rtol=rtol, atol=atol, points=points,
                              saveat=saveat, params=params, progress=progress)
 

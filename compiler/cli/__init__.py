@@ -46,6 +46,7 @@ FAMILIES = (
     ("animate", ("animate",)),
     ("cache", ("cache",)),
     ("generate", ("generate",)),
+    ("linear", ("linearize",)),
 )
 COMMANDS = tuple(command for _, commands in FAMILIES for command in commands)
 
@@ -56,6 +57,8 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
     commands and `--help` get them all."""
     parser = argparse.ArgumentParser(prog="dyadc", description=DESCRIPTION, epilog=EXAMPLES,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
+    from compiler import __version__
+    parser.add_argument("--version", action="version", version=f"dyadc {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     for family, commands in FAMILIES:
@@ -86,7 +89,8 @@ def run_command(argv: list[str] | None = None) -> int:
         from compiler.model.size_limits import element_limit
         options.check_arguments(arguments)
         options.check_paths(args)
-        with element_limit(getattr(args, "max_elements", None)):
+        from compiler.units.mode import units_mode
+        with element_limit(getattr(args, "max_elements", None)), units_mode(getattr(args, "units", None)):
             return args.run(args) or 0
     except DyadError as err:
         print(err.format(), file=sys.stderr)

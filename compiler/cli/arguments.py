@@ -1,4 +1,5 @@
-"""The arguments several `dyadc` commands share: MODEL, the library folders, the element limit."""
+"""The arguments several `dyadc` commands share: MODEL, the library folders, the element limit,
+the units check's mode."""
 from __future__ import annotations
 
 import argparse
@@ -17,3 +18,9 @@ def add_model_arguments(p: argparse.ArgumentParser) -> None:
     p.add_argument("--max-elements", type=int, metavar="N",
                    help="refuse array sizes, ranges, loops and component arrays of more than N elements "
                         "(default $DYADC_MAX_ELEMENTS or 1000000)")
+    add_units_argument(p)
+
+
+def add_units_argument(p: argparse.ArgumentParser) -> None:
+    from compiler.units import mode
+    p.add_argument("--units", choices=mode.MODES, default=None, help=mode.HELP)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from compiler.cli.arguments import add_lib_argument
+from compiler.cli.arguments import add_lib_argument, add_units_argument
 
 
 def add_test(sub) -> None:
@@ -16,6 +16,7 @@ def add_test(sub) -> None:
     p.add_argument("--accept", "--update", dest="accept", action="store_true",
                    help="write the golden files from a run at rtol 1e-10, creating missing ones "
                         "(never done without this flag)")
+    add_units_argument(p)
     p.set_defaults(run=run_test)
 
 

@@ -66,8 +66,8 @@ def check_path(option: str, path: str) -> None:
 
 
 # The arguments of `dyadc` commands that name files or folders, by attribute.
-_PATH_OPTIONS = {"file": "FILE", "output": "--output", "plot": "--plot", "output_dir": "-o",
-                 "golden": "--golden", "lib": "-L"}
+_PATH_OPTIONS = {"file": "FILE", "output": "--output", "plot": "--plot", "events": "--events",
+                 "output_dir": "-o", "golden": "--golden", "lib": "-L"}
 
 
 def check_paths(args) -> None:
@@ -116,6 +116,28 @@ def check_output_size(points: int, signals: int, limit: int, what: str) -> None:
                         f"of {limit:,}",
                         hint=f"use fewer output times (--points, a coarser --saveat), fewer signals, or "
                              f"raise the limit with --max-output-values or ${MAX_OUTPUT_VALUES_ENV}")
+
+
+def chosen_signals(requested, outputs) -> list[str] | None:
+    """`--vars`: the signals named, a name with `*` or `?` expanded as a pattern (None: all)."""
+    if not requested:
+        return None
+    from compiler.runtime import ModelInputError, matching_signals
+    try:
+        return matching_signals(requested, list(outputs))
+    except ModelInputError as err:
+        raise DyadError(f"--vars: {err}") from None
+
+
+def overrides_accepted(model, params: Mapping[str, float]) -> bool:
+    """Whether the compiled model takes every `-p` override (a tunable parameter, a finite value);
+    when not, the run says why (for a structural parameter at its declaration, compiler/api.py)."""
+    from compiler.runtime import ModelInputError
+    try:
+        model.parameter_vector(params)
+    except ModelInputError:
+        return False
+    return True
 
 
 def check_points(points: int) -> None:
@@ -226,9 +248,10 @@ def parse_override(text: str) -> Override:
         raise DyadError(f"parameter override `{text}`: the value must be a finite number, got {number}")
     unit = match.group(2) or None
     if unit is not None:
-        from compiler.model.units import UnitError, parse_unit
+        from compiler.units.system import UnitError, is_offset_unit, parse_unit
         try:
-            parse_unit(unit)       # readable now; whether it fits the parameter is known after flattening
+            if not is_offset_unit(unit):
+                parse_unit(unit)       # readable now; whether it fits the parameter is known after flattening
         except UnitError as err:
             raise DyadError(f"-p {text}: {err}", hint="units are written as in the library, e.g. mm, kN/m, "
                                                       "kg.m2, m/s2, 1/min (docs/cli.md)") from None
@@ -239,7 +262,7 @@ def convert_overrides(overrides: list[Override], parameters: Mapping[str, float]
                       declared: Mapping[str, str]) -> dict[str, float]:
     """NAME -> value in the declared unit of NAME. A name that is no parameter keeps its value so
     that the runtime's unknown-parameter error (with its did-you-mean) reports it."""
-    from compiler.model.units import UnitError, conversion_factor, parse_unit
+    from compiler.units.system import UnitError, convert_value, describe_kind
 
     values: dict[str, float] = {}
     for override in overrides:
@@ -251,17 +274,16 @@ def convert_overrides(overrides: list[Override], parameters: Mapping[str, float]
                                 f"cannot be converted", hint=f"give a plain number: -p {override.name}="
                                                              f"{override.value:g}")
             try:
-                parse_unit(unit)
+                describe_kind(unit)
             except UnitError as err:
                 raise DyadError(f"parameter '{override.name}' declares the unit `{unit}`, which dyadc "
                                 f"cannot read ({err})", hint="give a plain number in that unit") from None
-            given = parse_unit(override.unit)
             try:
-                value = override.value * conversion_factor(override.unit, unit)
+                value = convert_value(override.value, override.unit, unit)
             except UnitError:
                 raise DyadError(f"-p {override.text}: parameter '{override.name}' is declared in `{unit}` "
-                                f"({parse_unit(unit).dimension()}), and the given unit `{override.unit}` "
-                                f"({given.dimension()}) does not convert to it",
+                                f"({describe_kind(unit)}), and the given unit `{override.unit}` "
+                                f"({describe_kind(override.unit)}) does not convert to it",
                                 hint=f"give the value in `{unit}` or a unit of the same kind") from None
         values[override.name] = value
     return values

@@ -15,9 +15,16 @@ from typing import Callable, Sequence
 from compiler.errors import DyadError
 
 
-def check_simulate_outputs(output: str | None, plot: str | None) -> None:
-    """`--output` and `--plot` of `dyadc simulate`: places that can be written, known extensions
-    (disjoint for tables and plots, so the two never name one file), the packages they need."""
+def check_simulate_outputs(output: str | None, plot: str | None, events: str | None = None) -> None:
+    """`--output`, `--plot` and `--events` of `dyadc simulate`: places that can be written, known
+    extensions (disjoint for tables and plots, so the two never name one file), the packages they
+    need."""
+    if events:
+        check_output_file(events, "--events")
+        if not events.lower().endswith(".csv"):
+            raise DyadError(f"--events `{events}`: events are written as CSV", hint="name it FILE.csv")
+        if events in (output, plot):
+            raise DyadError(f"--events `{events}` names the same file as --output or --plot")
     from compiler.runtime.plotting import PlotFormatError, plot_format
     from compiler.runtime.writers import OutputFormatError, check_table_writer
 
@@ -35,18 +42,27 @@ def check_simulate_outputs(output: str | None, plot: str | None) -> None:
 
 
 def write_result(result, names: Sequence[str], units: dict, title: str, output: str | None,
-                 plot: str | None) -> None:
-    """The table and the plot of a run: both written or neither."""
+                 plot: str | None, events: str | None = None) -> list[str]:
+    """The table (with its sidecar for CSV), the plot and the events of a run: all written or
+    none. Returns the paths written."""
     from compiler.runtime.plotting import plot_signals
-    from compiler.runtime.writers import write_table
+    from compiler.runtime.writers import sidecar_path, write_events, write_sidecar, write_table
 
     columns = {name: result[name] for name in names}
     outputs = []
     if output:
-        outputs.append((output, lambda path: write_table(path, result.time, columns, units)))
+        outputs.append((output, lambda path: write_table(path, result.time, columns, units,
+                                                         parameters=result.parameters)))
+        sidecar = sidecar_path(output)
+        if sidecar is not None:
+            outputs.append((sidecar, lambda path: write_sidecar(
+                path, {n: units.get(n, "") for n in columns}, result.parameters, title)))
     if plot:
         outputs.append((plot, lambda path: plot_signals(path, result.time, columns, units, title)))
+    if events:
+        outputs.append((events, lambda path: write_events(path, result.events)))
     write_all_or_none(outputs)
+    return [target for target, _ in outputs]
 
 
 def check_output_file(path: str, option: str) -> None:

@@ -21,7 +21,8 @@ def blas_on_one_thread() -> None:
 def warning_line(message, category, filename, lineno, file=None, line=None) -> None:
     """Warnings reach a user of the command line as `warning: ...` lines, not as Python's
     file:line report of where in dyadc they were raised."""
-    print(f"warning: {message}", file=file or sys.stderr)
+    located = getattr(message, "located", False)      # already `FILE:LINE:COL: warning: ...`
+    print(message if located else f"warning: {message}", file=file or sys.stderr)
 
 
 def exit_without_teardown(status: int) -> None:

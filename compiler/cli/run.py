@@ -9,9 +9,10 @@ from __future__ import annotations
 import argparse
 import sys
 
-from compiler.cli.arguments import add_lib_argument
+from compiler.cli.arguments import add_lib_argument, add_units_argument
 
-RUN_HELP = "run an `analysis` block (TransientAnalysis) and write its result (CSV by default)"
+RUN_HELP = ("run an `analysis` block (TransientAnalysis; LinearAnalysis, ClosedLoopAnalysis, "
+            "ClosedLoopSensitivityAnalysis) and write its result (CSV, or JSON and plots)")
 
 
 def add_run(sub) -> None:
@@ -29,6 +30,7 @@ def add_run(sub) -> None:
     p.add_argument("--plot", metavar="FILE.png", help="also plot the result, one subplot per unit")
     p.add_argument("--max-output-values", type=int, metavar="N",
                    help="refuse runs storing more than N output values (as dyadc simulate)")
+    add_units_argument(p)
     p.set_defaults(run=run_analysis)
 
 
@@ -50,6 +52,10 @@ def run_analysis(args: argparse.Namespace) -> int:
     limit = options.max_output_values(args.max_output_values)
     library = Library(args.lib)
     resolved = find_analysis(args.analysis, library)
+    from compiler.analysis.linear_analyses import linear_kind
+    if linear_kind(resolved, library):
+        from compiler.cli.linear_run import main_linear_run
+        return main_linear_run(args, resolved, library, overrides)
     run = read_transient(resolved, library, {o.name: o.value for o in overrides})
     for o in overrides:
         if o.unit is not None and (o.name in run.parameters or o.name in FIELDS):

@@ -25,11 +25,14 @@ def add_simulate(sub) -> None:
     p.add_argument("-p", dest="params", action="append", default=[], metavar="NAME=VALUE[UNIT]",
                    help="override a parameter by dotted path, optionally with a unit converted to the "
                         "declared one, e.g. -p L=100mm (repeatable)")
-    p.add_argument("--vars", nargs="+", metavar="NAME", help="signals to write (default: all)")
+    p.add_argument("--vars", nargs="+", metavar="NAME", help="signals to write (default: all); a name "
+                   "with * or ? is a pattern, e.g. 'body.*' ([ stays an index: r[1])")
     p.add_argument("--output", metavar="FILE",
                    help="write the result; the extension picks the format: .csv, .parquet, .mat, .npz")
     p.add_argument("--plot", metavar="FILE.png", help="plot the result, one subplot per unit "
                                                       "(.png, .pdf, .svg, ...)")
+    p.add_argument("--events", metavar="FILE.csv", help="write the located state events as CSV: "
+                                                        "time,event,direction (rising/falling)")
     p.add_argument("--codegen", choices=["c"], help="compile the model to C with gcc (the first run "
                                                     "builds it in the background, later runs use it)")
     p.add_argument("--no-cache", action="store_true",
@@ -75,15 +78,17 @@ def _simulate(args, background: list) -> int:
         options.check_points(args.points)
     options.check_output_size(times, 0, limit, f"--saveat {args.saveat}" if saveat else f"--points {times}")
     overrides = [options.parse_override(text) for text in args.params]
-    check_simulate_outputs(args.output, args.plot)
+    check_simulate_outputs(args.output, args.plot, args.events)
     compilation = compile_or_load(args.model, args.lib, cache=not args.no_cache)
-    from compiler.pipeline import start_notes    # under-determined: what was chosen
-    for note in start_notes(compilation):
-        print(f"note: {note}", file=sys.stderr)
     model = compilation.model
     options.check_output_size(times, len(model.output_names), limit, f"{times:,} output times of {model.name}")
     units = model.metadata.get("units", {})
     params = options.convert_overrides(overrides, model.parameters, units)
+    names = options.chosen_signals(args.vars, model.output_names)     # names or patterns
+    from compiler.pipeline import start_notes    # open connectors; under-determined: what was chosen
+    if options.overrides_accepted(model, params):    # once, after every option is checked (else the
+        for line in start_notes(compilation):       # run reports the override, with its location)
+            print(line, file=sys.stderr)
     if args.codegen == "c":
         import time
         from compiler.cache.native import use_c_code
@@ -98,18 +103,18 @@ def _simulate(args, background: list) -> int:
     except SimulationError as failure:
         if args.keep_partial and args.output and failure.partial is not None:
             partial = _partial_path(args.output)
-            failure.partial.write(partial, args.vars or None)
+            failure.partial.write(partial, names)
             failure.notes.append(Note(f"the run up to t = {failure.partial.time[-1]:.10g} is in {partial}"))
         raise
-    names = args.vars or None
-    if names:
-        for n in names:
-            result[n]           # unknown names fail before anything is written
-    write_result(result, names or result.names, units, model.name, args.output, args.plot)
+    written = write_result(result, names or result.names, units, model.name, args.output, args.plot,
+                           args.events)
     stats = result.stats
+    events = len(result.events)
     print(f"simulated {compilation.model.name} from {args.start:g} to {args.stop:g} s: "
-          f"{stats.get('steps')} steps, compile {stats.get('compile_time', 0):.2f} s, "
-          f"run {stats.get('run_time', 0):.2f} s", file=sys.stderr)
+          f"{stats.get('steps')} steps, {events} event{'s' if events != 1 else ''}, compile "
+          f"{stats.get('compile_time', 0):.2f} s, run {stats.get('run_time', 0):.2f} s"
+          + (f"; wrote {', '.join(written[:-1])} and {written[-1]}" if len(written) > 1 else
+             f"; wrote {written[0]}" if written else ""), file=sys.stderr)
     if not args.output and not args.plot:
         _print_final(result, names)
     return 0

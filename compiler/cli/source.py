@@ -67,9 +67,9 @@ def run_parse(args) -> int:
 
 
 def run_fmt(args) -> int:
-    from compiler.syntax.format import format_file
-    from compiler.syntax.parser import parse_file
-    text = format_file(parse_file(args.file))
+    from compiler.syntax.format_comments import format_source
+    from compiler.syntax.parser import read_source
+    text = format_source(read_source(args.file), args.file)
     if args.write:
         Path(args.file).write_text(text, encoding="utf-8")
     else:

@@ -13,6 +13,7 @@ with them is refused.
 from __future__ import annotations
 
 import os
+import shlex
 import time
 from typing import Callable, Sequence
 
@@ -106,10 +107,19 @@ def _compared_names(case: TestCase) -> list[str]:
     return list(dict.fromkeys(list(case.signals) + list(case.expect_initial) + list(case.final)))
 
 
+def accept_command(spec: str, lib_dirs: Sequence[str], golden_dir: str | os.PathLike) -> str:
+    """The `dyadc test ... --accept` command that writes the goldens of `spec`, quoted for a POSIX
+    shell, with the user's -L folders: it runs as printed."""
+    words = ["dyadc", "test", spec, *[w for folder in lib_dirs for w in ("-L", os.fspath(folder))],
+             "--golden", os.fspath(golden_dir), "--accept"]
+    return " ".join(shlex.quote(word) for word in words)
+
+
 def run_case(compilation, case: TestCase, golden_dir: str | os.PathLike,
-             spec: str | None = None) -> CaseReport:
+             spec: str | None = None, lib_dirs: Sequence[str] = ()) -> CaseReport:
     """Simulate at the case's tolerance and compare with its golden in `golden_dir`. Never writes
-    anything. `spec` is how the user named the model (for the hint on a missing golden)."""
+    anything. `spec` and `lib_dirs` are how the user named the model (for the hint on a missing
+    golden)."""
     report = CaseReport(case)
     began = time.perf_counter()
     path = golden_path(golden_dir, case)
@@ -117,7 +127,7 @@ def run_case(compilation, case: TestCase, golden_dir: str | os.PathLike,
         if not os.path.isfile(path):
             raise DyadError(f"no golden file {path}", case.span,
                             hint=f"create it explicitly (after checking the model independently): "
-                                 f"dyadc test {spec or case.model} --golden {golden_dir} --accept")
+                                 f"{accept_command(spec or case.model, lib_dirs, golden_dir)}")
         golden = read_golden(path)
         result, notes = _simulate(compilation, case, case.rtol)
         report.notes.extend(notes)
@@ -222,11 +232,14 @@ def run_tests(model_spec: str | None, lib_dirs: Sequence[str] = (), *,
                     reports.append(CaseReport(case, error=f"cannot compile {model}: {err.format()}"))
                     show(reports[-1])
     for spec, compilation, cases in targets:
+        said: set[str] = set()              # a model's notes are printed once, not once per case
         for case in cases:
             if accept:
                 report = accept_case(compilation, case, golden_dir)
             else:
-                report = run_case(compilation, case, golden_dir, spec)
+                report = run_case(compilation, case, golden_dir, spec, lib_dirs)
+            report.notes = [note for note in report.notes if note not in said]
+            said.update(report.notes)
             show(report)
             reports.append(report)
     return reports

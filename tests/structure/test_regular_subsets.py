@@ -1,5 +1,6 @@
-"""The regular column subsets found along the combinations (compiler/lower/regular_subsets.py) are
-those a loop over itertools.combinations finds with one full matching per subset: the same subsets,
+"""The regular column subsets found along the combinations
+(compiler/structure/state_selection/regular_subsets.py) are those a loop over
+itertools.combinations finds with one full matching per subset (Hopcroft–Karp): the same subsets,
 in the same order, and a search that stops at the same subset when its budget runs out."""
 from __future__ import annotations
 
@@ -8,7 +9,8 @@ import itertools
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from compiler.lower.regular_subsets import regular_subsets
+from compiler.structure.graph.matching import UNMATCHED, maximum_matching
+from compiler.structure.state_selection.regular_subsets import regular_subsets
 
 
 class Exhausted(Exception):
@@ -16,17 +18,10 @@ class Exhausted(Exception):
 
 
 def full_matching_size(positions, columns) -> int:
-    matched: dict[int, int] = {}
-
-    def augment(v, seen) -> bool:
-        for i in positions.get(v, ()):
-            if i not in seen:
-                seen.add(i)
-                if i not in matched or augment(matched[i], seen):
-                    matched[i] = v
-                    return True
-        return False
-    return sum(augment(v, set()) for v in columns)
+    rows_of = [list(positions.get(v, ())) for v in columns]
+    n_rows = 1 + max((i for found in rows_of for i in found), default=-1)
+    column_to_row, _ = maximum_matching(len(columns), n_rows, rows_of)
+    return sum(1 for i in column_to_row if i != UNMATCHED)
 
 
 def by_every_subset(positions, n_rows, fixed, rest, size, budget):
