@@ -11,7 +11,7 @@ import warnings
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Sequence
 
-from compiler.structure.collection import fewer_collections      # gc thresholds only: imports nothing heavy
+from compiler.model.collection import fewer_collections      # gc thresholds only: imports nothing heavy
 
 if TYPE_CHECKING:
     from compiler.cache.models import CachedCompilation

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import sympy
 
 from compiler.errors import DyadError, suggest_name
-from compiler.model.flat import INPUT, Equation, FlatSystem, Origin, Parameter, symbol
+from compiler.model.flat import INPUT, Equation, FlatSystem, Origin, Parameter
 
 
 @dataclass(frozen=True)
@@ -72,8 +72,8 @@ def with_linear_inputs(flat: FlatSystem, perturbed: list[str] = (), opened: list
                 raise DyadError(f"analysis point `{name}`: no connection `{inp} = {out}` found in "
                                 f"the flat model (its output signal drives another set?)", point.span)
             old = equations[index]
-            driven = symbol(param) if name in opened else symbol(out) + symbol(param)
-            equations[index] = Equation(symbol(inp) - driven, old.origin, "analysis_point")
+            driven = sympy.Symbol(param) if name in opened else sympy.Symbol(out) + sympy.Symbol(param)
+            equations[index] = Equation(sympy.Symbol(inp) - driven, old.origin, "analysis_point")
             added.append(Parameter(param, 0.0, origin=Origin("", point.span),
                                    description=f"perturbation at analysis point {name}"))
             taken.add(param)
@@ -87,7 +87,7 @@ def with_linear_inputs(flat: FlatSystem, perturbed: list[str] = (), opened: list
 
 
 def _connection_index(equations: list[Equation], out: str, inp: str) -> int | None:
-    target = symbol(inp) - symbol(out)
+    target = sympy.Symbol(inp) - sympy.Symbol(out)
     for i, equation in enumerate(equations):
         if equation.kind == "connect" and sympy.expand(equation.residual - target) == 0:
             return i

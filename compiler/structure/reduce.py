@@ -13,7 +13,8 @@ from compiler.structure.alias import AliasResult, eliminate_aliases
 from compiler.structure.causalize import Causalization, causalize
 from compiler.structure.derivative_rank import RankReport, remove_derivative_dependencies
 from compiler.structure.diagnostics import structural_singularity_error
-from compiler.structure.differentiate import free_symbols, partial
+from compiler.model.symbols import free_symbols
+from compiler.structure.differentiate import partial
 from compiler.structure.dummy_derivatives import DummySelection, declared_priority, select_dummy_derivatives
 from compiler.structure.index_reduction import IndexReductionReport, reduce_index
 from compiler.structure.indexed import IndexedSystem, build_indexed
