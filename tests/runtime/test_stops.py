@@ -159,9 +159,6 @@ def recording(calls: list, stops: list):
         def __init__(self, model, options, watch, tally):
             self.watch = watch
 
-        def derivative(self, x, z, p, t):
-            return -np.ones(1)
-
         def advance(self, call: Call) -> Stop:
             calls.append(call)
             return stops.pop(0)
