@@ -19,11 +19,13 @@ from .model import FORMAT_VERSION, CompiledModel
 from .options import SimulationOptions
 from .outputs import evaluate_outputs, polish_algebraics
 from .result import Result
+from .signal_patterns import expand_patterns, matching_signals
 from .state_sets import SWITCH_RATIO, pivoted_columns, state_selection_quality
 from .variants import VariantSwitcher
 
 __all__ = ["CompiledModel", "FORMAT_VERSION", "InitializationFailed", "ModelInputError", "Result",
            "SWITCH_RATIO", "SimulationFailed", "SimulationInterrupted", "SimulationOptions",
            "StateSetSwitcher", "VariantSwitcher", "consistent_initialization", "default_switcher",
-           "did_you_mean", "evaluate_outputs", "pivoted_columns", "polish_algebraics", "simulate",
+           "did_you_mean", "evaluate_outputs", "expand_patterns", "matching_signals", "pivoted_columns",
+           "polish_algebraics", "simulate",
            "state_selection_quality"]

@@ -47,6 +47,7 @@ def simulate(model: CompiledModel, stop: float | None = None, *, options: Simula
     options = options.validated()
     run = RunState(model, options, switcher if switcher is not None else default_switcher(model))
     p = model.parameter_vector(options.params)
+    run.parameters = model.named_parameters(p)
     run.ends = segment_ends(model, p, options)
     p = with_clock(model, p, options.start, run.ends[0])
     stats: dict = {"compile_time": model.compile_time}
@@ -101,7 +102,7 @@ def _result(run: RunState, model: CompiledModel, n: int, stats: dict) -> Result:
     units = model.metadata.get("units") or {}
     return Result(run.grid[:n], run.public, run.values[:, :n], stats, model.name,
                   units={name: units[name] for name in run.public if name in units},
-                  events=run.events, switches=run.switches)
+                  events=run.events, switches=run.switches, parameters=run.parameters)
 
 
 def _partial_result(run: RunState, model: CompiledModel) -> Result | None:

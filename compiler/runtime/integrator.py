@@ -65,6 +65,7 @@ class Stop:
     failure: SimulationFailed | None = None
     retry: Call | None = None
     horizon: float | None = None        # reached: how far the next call should reach (predicted)
+    direction: int = 0                  # a crossing: +1 its watched value rose through zero, -1 fell
 
 
 class Integrator(Protocol):

@@ -64,6 +64,7 @@ class RunState:
         self.counters = {v: 0 for v in COUNTERS.values()}
         self.counters["segments"] = 0
         self.events: list[dict] = []
+        self.parameters: dict[str, float] = {}   # the run's parameter values, by name
         self.switches: list[dict] = []
         self.bounds_left: list[dict] = []        # declared bounds left (bounds="warn")
         self.ignored: set[tuple] = set()         # watch labels no longer located (bounds warned of)

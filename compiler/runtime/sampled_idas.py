@@ -105,7 +105,9 @@ class SampledIdas:
             # the crossing was the long call's own error: a run from the check before it does not
             # cross; the run goes on from there
             return Stop(UNCONFIRMED, t_cross, x_cross, z_cross, samples)
-        return Stop(kind, t_cross, x_cross, z_cross, samples, row, what)
+        # rising: the watched value (a condition's left side minus its right) went from below zero
+        before = float(np.asarray(self.watch.function(x_left, z_left, call.p, t_left))[row, 0])
+        return Stop(kind, t_cross, x_cross, z_cross, samples, row, what, direction=1 if before <= 0 else -1)
 
     def _refill(self, call: Call, t_a: float, t_b: float, x_a, z_a) -> tuple:
         """The output times in (t_a, t_b] and the states there, integrated from the point at t_a."""
