@@ -86,7 +86,7 @@ class UnitCheck:
         if is_offset_unit(text):
             return text
         try:
-            return Dim(parse_unit(text), (), text)
+            return Dim(parse_unit(text), (), text, True)
         except UnitError as err:
             self.problems.append(declaration_finding(
                 f"the unit of `{target.path}` cannot be read: {err}",

@@ -185,12 +185,6 @@ class ExpressionUnits:
             return DIMENSIONLESS
         return base if base is None or base is FREE else base ** exponent
 
-    def bare_time(self, expr: Any, scope: EvalScope) -> bool:
-        """`time` or `-time`: an argument whose unit factor of 1 is implied, as a literal's is."""
-        while isinstance(expr, ast.UnaryOp) and expr.op in ("-", "+"):
-            expr = expr.operand
-        return isinstance(expr, ast.Ref) and self.target(expr, scope) is SECONDS
-
     def varies(self, expr: Any, scope: EvalScope) -> bool:
         """Whether `expr` names a variable or `time` (else it is constant during a run)."""
         if isinstance(expr, ast.Ref):
@@ -213,10 +207,8 @@ class ExpressionUnits:
             return self.agreeing([args[1], args[2]], scope, "branch",
                                  ("the `else` value", "the `then` value"))
         if name in DIMENSIONLESS_ARGUMENTS and len(args) == 1:
-            unit = self.of(args[0], scope)
-            if not self.bare_time(args[0], scope):      # sin(time) reads as sin(1*time), as sin(2*time)
-                self.require(DIMENSIONLESS, _factor(unit),
-                             self.site("argument", args[0], None, (f"the argument of `{name}`", "")))
+            self.require(DIMENSIONLESS, _factor(self.of(args[0], scope)),
+                         self.site("argument", args[0], None, (f"the argument of `{name}`", "")))
             return DIMENSIONLESS
         if name == "atan2" and len(args) == 2:
             self.agreeing(list(args), scope, "argument", ("the second argument", "the first argument"))

@@ -8,7 +8,16 @@ import pytest
 from compiler.units.system import convert_value, parse_unit
 
 SILENT = {
-    "a function of time alone, as a literal factor of time would be": """
+    "a model written without units": """
+    component Model
+      variable x::Real
+      variable v::Real
+    relations
+      der(x) = v + log(x)
+      der(v) = -x
+    end
+    """,
+    "a function of time alone": """
     component Model
       variable y::Real
     relations
