@@ -55,9 +55,9 @@ def flatten_spec(spec: str, lib_dirs: Sequence[str] = (), *,
 
 @fewer_collections()
 def compile_flat(flat: FlatSystem, timings: dict[str, float] | None = None) -> Compilation:
-    from compiler.lower.state_set_enumeration import with_variants
+    from compiler.lower.state_set_variants import build_variant, with_variants
     from compiler.lower.universal_variant import with_universal
-    from compiler.lower.state_set_variants import build_variant, monitored_levels
+    from compiler.structure.state_selection.monitored import monitored_levels
     from compiler.lower.to_casadi import lower
     from compiler.model.model_check import require_standalone
     from compiler.structure.reduce import StructureReport, analyse, reduce
@@ -149,13 +149,16 @@ def _units_reported(found: CachedCompilation) -> bool:
 
 
 def start_notes(compilation: Compilation | CachedCompilation) -> list[str]:
-    """The note on start values chosen for an under-determined initialization, if any (as
-    compiler.testing.golden.initialization_notes); a cached compilation kept it."""
+    """What `dyadc simulate` prints before a run, as whole lines: the warning on connectors left
+    unconnected and the note on start values chosen for an under-determined initialization (as
+    compiler.testing.golden.initialization_notes); a cached compilation kept them."""
     if not isinstance(compilation, Compilation):
         return list(compilation.notes)
+    from compiler.model.flatten_report import open_connector_warning
     from compiler.structure.initialization import describe_chosen
     chosen = compilation.reduced.initial.chosen
-    return [describe_chosen(chosen)] if chosen else []
+    warning = open_connector_warning(compilation.flat)
+    return [f"warning: {warning}"] * bool(warning) + [f"note: {describe_chosen(chosen)}"] * bool(chosen)
 
 
 def recompile(cached: CachedCompilation) -> Compilation:
