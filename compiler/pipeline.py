@@ -162,7 +162,10 @@ def start_notes(compilation: Compilation | CachedCompilation) -> list[str]:
 
 
 def recompile(cached: CachedCompilation) -> Compilation:
-    """The full compilation behind a cached one, for what only the sources can tell."""
-    compilation = compile_spec(cached.spec, cached.lib_dirs)
+    """The full compilation behind a cached one, for what only the sources can tell (its unit
+    findings were reported when it was loaded: not again)."""
+    from compiler.units.mode import units_mode
+    with units_mode("off"):
+        compilation = compile_spec(cached.spec, cached.lib_dirs)
     compilation.timings = {**cached.timings, **compilation.timings}
     return compilation
