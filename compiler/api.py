@@ -104,3 +104,16 @@ def simulate(model_spec: str, stop: float, *, lib_dirs: Sequence[str] = (), star
     compilation = compile_or_load(model_spec, lib_dirs, cache=cache)
     return simulate_compiled(compilation, stop, start=start, rtol=rtol, atol=atol, points=points,
                              saveat=saveat, params=params, progress=progress)
+
+
+def linearize(model_spec: str, *, inputs: Sequence[str] = (), outputs: Sequence[str] = (),
+              at: float | None = None, steady: bool = False, op: Mapping[str, float] | None = None,
+              params: Mapping[str, float] | None = None, opened: Sequence[str] = (),
+              minimal: bool = False, lib_dirs: Sequence[str] = (), cache: bool = True):
+    """The linear model (A, B, C, D) of `model_spec` at an operating point (the initial point, the
+    state of a run at time `at`, or a steady state), from its free inputs or analysis points to any
+    variables or analysis points: a compiler.linear.system.LinearSystem (docs/analysis.md)."""
+    from compiler.linear.request import Request, linearize_spec
+    request = Request(inputs=tuple(inputs), outputs=tuple(outputs), at=at, steady=steady,
+                      op=dict(op or {}), params=dict(params or {}), opened=tuple(opened), minimal=minimal)
+    return linearize_spec(model_spec, request, lib_dirs, cache=cache)

@@ -95,14 +95,14 @@ def run_fmt(args) -> int:
 
 def run_check(args) -> int:
     from compiler.model.flatten import check_library, flatten_model, summarize
-    from compiler.model.model_check import assess
+    from compiler.model.model_check import check_model
     if os.path.isdir(args.model):
         problems = check_library(args.model)
         for line in problems:
             print(line)
         return 1 if any("error" in line for line in problems) else 0
     flat = flatten_model(args.model, args.lib)
-    verdict = assess(flat)           # the same checks as `simulate` runs before compiling
+    verdict = check_model(flat)      # the same checks as `simulate` runs before compiling
     print(summarize(flat, verdict))
     return 0
 

@@ -99,7 +99,7 @@ def fingerprint(kind: str, path: str) -> str:
 
 def _julia_fingerprint(package_folder: Path) -> str:
     """The names and bytes of the Julia sources of a package folder: `src/*.jl` beside it when it
-    is a project's `dyad/` folder (the rule of compiler.model.julia_functions.julia_source_files)."""
+    is a project's `dyad/` folder (the rule of compiler.julia.functions.julia_source_files)."""
     folder = package_folder.resolve()
     source = folder.parent / "src"
     if folder.name != "dyad" or not source.is_dir():

@@ -25,9 +25,8 @@ from sympy.logic.boolalg import BooleanAtom, BooleanFunction
 
 from compiler.errors import DyadError, Span
 from compiler.model.flat import TIME, der_name
-from compiler.model.functions import PI, FunctionCallError, as_array, is_array
-from compiler.model.julia_functions import MAX_CALL_DEPTH, JuliaFunction
-from compiler.model.julia_objects import object_call
+from compiler.model import object_calls
+from compiler.model.functions import PI, FunctionCallError, FunctionImpl, as_array, is_array
 from compiler.model.ranges import float_range, is_fractional
 from compiler.model.size_limits import check_elements, check_shape, checked_power, range_length
 from compiler.syntax import ast
@@ -94,6 +93,12 @@ class EvalScope:
 
     def with_lexical(self, lexical: Lexical) -> "EvalScope":
         return EvalScope(self.node, lexical, self.tracker, self.bindings)
+
+    def function_body(self, package: str, bindings: dict[str, Any]) -> "EvalScope":
+        """The scope of an inlined function's body: no component members, only `bindings`, its
+        calls resolved in `package`."""
+        return EvalScope(_NoMembers(self.node), Lexical(self.lexical.library, package, None),
+                         self.tracker, bindings)
 
     def lookup(self, name: str, mode: Mode, span: Span | None) -> Any:
         if name in self.bindings:
@@ -648,14 +653,16 @@ def _call(expr: ast.Call, scope: EvalScope, mode: Mode) -> Any:
                 raise DyadError(f"enum members with fields (`{name}(...)`) are not supported yet",
                                 span)
             return member
-    if mode is Mode.SYMBOLIC:       # a function of a medium (compiler/model/julia_objects.py)
-        value = object_call(expr, scope, lambda arg, at: _num(evaluate(arg, at, mode), span),
-                            lambda function, args: _julia_call(function, args, expr, scope, mode))
+    if mode is Mode.SYMBOLIC:       # a function of a Julia object (compiler/model/object_calls.py)
+        value = object_calls.object_call(expr, scope, object_calls.Evaluator(
+            value=lambda arg, at: _num(evaluate(arg, at, mode), span),
+            structural=lambda arg, at: evaluate(arg, at, Mode.STRUCTURAL),
+            inline=lambda function, args: _julia_call(function, args, expr, scope, mode)))
         if value is not None:
             return value
     impl = lex.library.resolve_function(name, lex.package, lex.file, span)
     args = [_num(evaluate(a, scope, mode), span) for a in expr.args]
-    if isinstance(impl, JuliaFunction):
+    if not isinstance(impl, FunctionImpl):      # a function read from Julia source
         return _julia_call(impl, args, expr, scope, mode)
     kwargs = {k.name: _num(evaluate(k.value, scope, mode), span) for k in expr.kwargs}
     try:
@@ -717,29 +724,10 @@ def _subject_enum(subject: ast.Expr, scope: EvalScope) -> str | None:
     return type_name if found is not None and isinstance(found.definition, ast.EnumDef) else None
 
 
-_JULIA_DEPTH = " julia call depth"        # a binding key no Dyad name can spell
-
-
-def _julia_call(function: JuliaFunction, args: list, expr: ast.Call, scope: EvalScope,
-                mode: Mode) -> Any:
-    """Inline a function read from a package's Julia source: its body sees only its parameters
-    and its own earlier locals (checked when it was read), its calls resolve in its package."""
-    span = expr.span
-    if expr.kwargs:
-        raise DyadError(f"`{expr.function}` takes no keyword arguments", span)
-    if not function.accepts(len(args)):
-        raise DyadError(f"`{expr.function}` takes {function.arity()} argument(s), got "
-                        f"{len(args)}", span)
-    depth = scope.bindings.get(_JULIA_DEPTH, 0) + 1
-    if depth > MAX_CALL_DEPTH:
-        raise DyadError(f"`{expr.function}` calls itself more than {MAX_CALL_DEPTH} levels deep",
-                        span, hint="dyadc inlines Julia functions; recursion cannot be inlined")
-    package = function.name.rpartition(".")[0]
-    inner = EvalScope(_NoMembers(scope.node), Lexical(scope.lexical.library, package, None),
-                      scope.tracker, {**dict(zip(function.parameters, args)), _JULIA_DEPTH: depth})
-    for local, value in function.defaults_after(len(args)) + function.locals:
-        inner = inner.bind(**{local: evaluate(value, inner, mode)})
-    return evaluate(function.result, inner, mode)
+def _julia_call(function: Any, args: list, expr: ast.Call, scope: EvalScope, mode: Mode) -> Any:
+    """Inline a function read from a package's Julia source (compiler/julia/inline.py)."""
+    return object_calls.inline(function, args, expr, scope,
+                               lambda body, inner: evaluate(body, inner, mode))
 
 
 class _NoMembers:

@@ -73,6 +73,8 @@ class Parameter:
     units: str | None = None
     description: str | None = None
     origin: Origin = field(default_factory=lambda: Origin(""))
+    type_name: str = "Real"             # as declared, e.g. `Resistance`
+    instance_span: Span | None = None   # where its component is instantiated (`r = Resistor()`)
 
 
 @dataclass

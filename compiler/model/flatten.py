@@ -413,7 +413,9 @@ class Flattener:
                           tunable=tunable, variability=parameter.variability,
                           units=units if isinstance(units, str) else None,
                           description=parameter.decl.doc,
-                          origin=Origin(parameter.node.path, parameter.span))
+                          origin=Origin(parameter.node.path, parameter.span),
+                          type_name=parameter.decl.type.name,
+                          instance_span=parameter.node.decl_span if parameter.node.parent else None)
                 for name, v, d in zip(parameter.flat_names(), values, defaults)]
 
     def _referenced_parameters(self, parameters: list[Parameter]) -> set[str]:
@@ -465,6 +467,7 @@ class Flattener:
                 "declared_partial": bool(getattr(self.root.resolved.definition, "partial", False)),
                 "declared_external": bool(getattr(self.root.resolved.definition, "external", False)),
                 "strings": getattr(self, "_strings", {}),
+                "analysis_points": self.graph.analysis_points,
                 "model_span": span_text(self.root.resolved.definition.span)}
 
     def _connector_info(self, node: Instance) -> dict:
@@ -496,7 +499,7 @@ def check_library(root_dir: str) -> list[str]:
     """Check every non-partial component under `root_dir` as `dyadc check` does; one line per
     component: `ok: Name (E equations, U unknowns)`, `partial: Name: balanced as a component,
     N open connectors (...)` for a component that cannot run alone, or the rendered error."""
-    from compiler.model.model_check import assess
+    from compiler.model.model_check import check_model
     from pathlib import Path
     library = Library([root_dir])
     lines: list[str] = []
@@ -510,7 +513,7 @@ def check_library(root_dir: str) -> list[str]:
             continue
         try:
             flat = flatten_resolved(resolved, library)
-            verdict = assess(flat)
+            verdict = check_model(flat)
         except DyadError as err:
             lines.append(f"{resolved.qualified_name}: {err.format()}")
             continue

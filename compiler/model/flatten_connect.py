@@ -112,6 +112,8 @@ class ConnectionGraph:
         self._elements: dict[tuple[str, str], Element] = {}
         self._order: dict[tuple[str, str], int] = {}
         self._origins: dict[tuple[str, str], Origin] = {}
+        # `name: analysis_point(out, in)`: name -> (output signal names, input signal names, span)
+        self.analysis_points: dict[str, tuple[list[str], list[str], Span | None]] = {}
 
     def _find(self, key: tuple[str, str]) -> tuple[str, str]:
         root = key
@@ -149,6 +151,9 @@ class ConnectionGraph:
                     other.span or connect.span,
                     notes=[Note(f"`{first.target.path}` is {_describe(first.target)}", first.span)])
         origin = Origin(scope.node.path, connect.span)
+        if connect.analysis_point is not None and first.is_signal:
+            self.analysis_points[join_path(scope.node.path, connect.analysis_point)] = (
+                list(first.target.names), list(elements[-1].target.names), connect.span)
         keys = [self._add(e, origin) for e in elements]
         for key in keys[1:]:
             a, b = self._find(keys[0]), self._find(key)

@@ -19,7 +19,7 @@ from compiler.errors import DyadError, Note, Span, suggest_name
 from compiler.model.expressions import CONDITION_TYPES, NOT_FOUND, EvalScope, Lexical, MissingValue, Mode, evaluate, \
     is_array, shape_of, structural_bool, structural_int, iteration_values, _num
 from compiler.model.flat import der_name
-from compiler.model import julia_values, replaceable, structs
+from compiler.model import object_values, replaceable, structs
 from compiler.model.library import PRIMITIVE_TYPES, Library, Resolved
 from compiler.model.size_limits import check_elements, check_shape
 from compiler.syntax import ast
@@ -485,7 +485,7 @@ class Instance:
         self.children: dict[str, Any] = {}          # Instance or np.ndarray of Instances
         self.disabled: dict[str, Span | None] = {}
         self.path_fields: dict[str, Span | None] = {}   # `path` fields of a connector
-        self.object_bindings: dict[str, Any] = {}       # their bindings: julia_values.py
+        self.object_bindings: dict[str, Any] = {}       # their bindings: object_values.py
         self.relations: list[tuple[ast.Relation, EvalScope]] = []
         self._scopes: dict[int, EvalScope] = {}
 
@@ -643,13 +643,13 @@ def _instantiate(model: Model, resolved: Resolved, path: str, parent: Instance |
                 struct_parameters[element.name] = found
                 continue
             entries = entries_for(element)
-            bound, bound_scope = julia_values.winning_binding(entries, element.decl,
+            bound, bound_scope = object_values.winning_binding(entries, element.decl,
                                                               node.scope(element.lexical))
             if structs.is_julia_object(model.library, element.decl.type, element.lexical.package,
                                        element.lexical.file) \
-                    or julia_values.names_julia_object(bound, bound_scope):
-                node.path_fields[element.name] = element.decl.span  # opaque: julia_objects.py
-                julia_values.record(node, element.name, bound, bound_scope, element.decl.span)
+                    or object_values.names_julia_object(bound, bound_scope):
+                node.path_fields[element.name] = element.decl.span  # opaque: object_calls.py
+                object_values.record(node, element.name, bound, bound_scope, element.decl.span)
                 continue
             node.parameters[element.name] = ParameterInstance(node, element, entries)
     for element in template.elements:

@@ -16,10 +16,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Callable, Sequence
 
-from compiler.errors import DyadError, Span, suggest_name
+from compiler.errors import DyadError, Span, closest, suggest_name
+from compiler.syntax.modelica_forms import modelica_form_error
 from compiler.model.functions import ELEMENTARY, GLOBAL_REGISTRY, FunctionImpl, FunctionRegistry, \
     suggest_function
-from compiler.model.julia_functions import JuliaFunction, UnreadableFunction, julia_source_files, \
+from compiler.julia.functions import JuliaFunction, UnreadableFunction, julia_source_files, \
     read_julia_functions
 from compiler.model.library_path import LIBRARY_PATH_VARIABLE, Root, describe, search_path
 from compiler.syntax import ast
@@ -192,10 +193,33 @@ class Library:
                 what: str = "type") -> Resolved:
         found = self.lookup(name, package, file)
         if found is None:
-            raise DyadError(f"unknown {what} `{name}`", span, hint=self._suggest_type(name, file))
+            suggest = self._suggest_component if what == "component type" else self._suggest_type
+            raise DyadError(f"unknown {what} `{name}`", span, hint=suggest(name, package, file))
         return found
 
-    def _suggest_type(self, name: str, file: ast.File | None) -> str | None:
+    def _suggest_component(self, name: str, package: str, file: ast.File | None) -> str | None:
+        """In a component position only components are suggested (never a quantity type such as
+        `Resistance`): those of the file, of the files parsed so far, and of the folders where
+        `name` would be looked up, qualified as the user wrote `name`."""
+        prefix, _, local = name.rpartition(".")
+        known: set[str] = set()
+        if not prefix:
+            for parsed in ([file] if file else []) + list(self._files.values()):
+                known.update(d.name for d in parsed.definitions if isinstance(d, ast.ComponentDef))
+        header = re.compile(r"(?<![\w.])component\s+(\w+)")
+        for candidate in self._candidates(name, package, file):
+            for root in self.roots:
+                folder = root.joinpath(*candidate.split(".")[:-1])
+                try:
+                    paths = sorted(folder.glob("*.dyad")) if folder.is_dir() else []
+                except OSError:         # a name longer than a file name may be
+                    continue
+                for path in paths:
+                    known.update(header.findall(self._text(path.resolve())))
+        match = closest(local, known)
+        return f"did you mean `{prefix + '.' if prefix else ''}{match[0]}`?" if match else None
+
+    def _suggest_type(self, name: str, package: str, file: ast.File | None) -> str | None:
         known = set(PRIMITIVE_TYPES)
         if file is not None:
             known.update(d.name for d in file.definitions)
@@ -236,12 +260,15 @@ class Library:
                             hint=f"{skipped[0]} was not run: dyadc runs a library's Python only "
                                  f"from folders named with -L DIR or {LIBRARY_PATH_VARIABLE}; if you "
                                  f"trust it, add -L {skipped[0].parent}")
+        modelica = modelica_form_error(name, span)          # `pre(x)`, `edge(b)`
+        if modelica is not None:
+            raise modelica
         suggestion = suggest_function(name, self.registry)
         raise DyadError(f"unknown function `{name}`", span,
                         hint=f"did you mean `{suggestion}`?" if suggestion else None)
 
     def julia_function(self, qualified_name: str) -> JuliaFunction | UnreadableFunction | None:
-        """A function `Pkg.name` that package `Pkg` defines in Julia (compiler.model.julia_functions),
+        """A function `Pkg.name` that package `Pkg` defines in Julia (compiler.julia.functions),
         from the first root whose folder `Pkg` defines it, as for definitions."""
         package, _, name = qualified_name.rpartition(".")
         if not package or "." in package:

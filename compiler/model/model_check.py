@@ -21,7 +21,7 @@ from compiler.model.balance import check_balance, incidence, span_from_text, unb
 from compiler.errors import DyadError, Note
 from compiler.model.flat import INPUT, FlatSystem
 from compiler.model.floating import FloatingCluster, floating_clusters
-from compiler.model.julia_objects import opaque_calls
+from compiler.julia.objects import opaque_calls
 from compiler.structure.graph.dulmage_mendelsohn import dulmage_mendelsohn
 
 
@@ -37,7 +37,7 @@ class Verdict:
     component_unknowns: int = 0               # without those flows and its inputs
     reason: DyadError | None = None           # why it cannot run on its own (None: it can)
     declared_external: bool = False           # `external component`: equations written in Julia
-    julia_object_calls: tuple[str, ...] = ()  # functions of a medium (compiler/model/julia_objects.py)
+    julia_object_calls: tuple[str, ...] = ()  # functions of a medium (compiler/julia/objects.py)
     julia_object_span: object = None          # the first equation that calls one
 
     @property
@@ -146,6 +146,15 @@ def _assess(flat: FlatSystem) -> Verdict:
     if verdict.declared_partial:
         return replace(verdict, reason=DyadError(f"`{flat.name}` is declared partial",
                                                  span_from_text(flat.metadata.get("model_span"))))
+    return verdict
+
+
+def check_model(flat: FlatSystem) -> Verdict:
+    """`dyadc check`: the verdict of `assess`, and for a model that runs on its own, the values
+    its run needs (without `-p`, `simulate` would refuse it just so)."""
+    verdict = assess(flat)
+    if not verdict.is_partial:
+        require_parameter_values(flat)
     return verdict
 
 
@@ -262,21 +271,52 @@ def require_tunable_overrides(flat: FlatSystem, overrides=None) -> None:
                         hint="override the parameters its value is computed from, if any")
 
 
-def require_parameter_values(flat: FlatSystem, used: set[str], overrides=None) -> None:
-    """Before a run: every parameter the equations use has a value, from its declaration or from
-    the caller (`-p name=VALUE`). A parameter may be declared without one on purpose."""
+def require_parameter_values(flat: FlatSystem, used: set[str] | None = None, overrides=None) -> None:
+    """Before a run (and in `dyadc check`, which runs without overrides): every parameter the
+    equations use (`used`; default: those of `flat`'s equations) has a value, from its declaration,
+    a modifier where its component is used, or the caller (`-p name=VALUE`)."""
     given = set(overrides or ())
+    used = used_parameter_names(flat) if used is None else used
     missing = [p for p in flat.parameters
                if p.name in used and p.value is None and p.default is None and p.name not in given]
-    if not missing:
-        return
+    if missing:
+        raise missing_values_error(flat, missing)
+
+
+def used_parameter_names(flat: FlatSystem) -> set[str]:
+    """The parameters `flat`'s equations and initial equations use, closed over the bindings of
+    other parameters."""
+    by_name = {p.name: p for p in flat.parameters}
+    pending = [s.name for e in flat.equations + flat.initial_equations
+               for s in e.residual.free_symbols if s.name in by_name]
+    used: set[str] = set()
+    while pending:
+        name = pending.pop()
+        if name in used:
+            continue
+        used.add(name)
+        default = by_name[name].default
+        if default is not None:
+            pending.extend(s.name for s in default.free_symbols if s.name in by_name)
+    return used
+
+
+def missing_values_error(flat: FlatSystem, missing: list) -> DyadError:
+    """Parameters without a value, located at the first one's declaration, with a note at the
+    place where its component is instantiated (where a value belongs) and a hint in its own type."""
     first = missing[0]
     names = ", ".join(f"`{p.name}`" for p in missing)
     example = " ".join(f"-p {p.name}=VALUE" for p in missing[:3])
-    raise DyadError(
+    local = first.name.rsplit(".", 1)[-1]
+    notes = [Note(f"`{p.name}` is declared here without a value", p.origin.span) for p in missing[1:8]]
+    where = f"`parameter {local}::{first.type_name} = VALUE` in the declaration"
+    if first.instance_span is not None:
+        instance = first.origin.path.rsplit(".", 1)[-1]
+        notes.insert(0, Note(f"`{instance}` is instantiated here: give `{local}` a value in its "
+                             f"modifiers, e.g. `{local} = VALUE`", first.instance_span))
+        where = f"a modifier where `{instance}` is instantiated (`{local} = VALUE`, see the note)"
+    return DyadError(
         f"parameter{'s' if len(missing) > 1 else ''} {names} of `{flat.name}` "
-        f"{'have' if len(missing) > 1 else 'has'} no value", first.origin.span,
-        notes=[Note(f"`{p.name}` is declared here without a value", p.origin.span) for p in missing[1:8]],
-        hint=f"give a value when simulating (`dyadc simulate ... {example}`, or "
-             f"params={{'{first.name}': VALUE}} from Python), or write a default in the "
-             f"declaration: `parameter {first.name.rsplit('.', 1)[-1]}::Real = VALUE`")
+        f"{'have' if len(missing) > 1 else 'has'} no value", first.origin.span, notes=notes,
+        hint=f"give a value in {where}, or when simulating (`dyadc simulate ... {example}`, or "
+             f"params={{'{first.name}': VALUE}} from Python)")

@@ -7,6 +7,7 @@ from lark import Token
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 
 from compiler.errors import DyadError, Note, Span
+from compiler.syntax.modelica_forms import modelica_form_error
 
 _PUNCTUATION = {
     "LPAR": "(", "RPAR": ")", "LSQB": "[", "RSQB": "]", "LBRACE": "{", "RBRACE": "}",
@@ -157,6 +158,10 @@ def _special_case(tok: Token, expected: set[str], blocks: list[OpenBlock], token
     if tok.type == "COMPARE_OP" and tok.type not in expected:
         return DyadError(f"comparisons cannot be chained, found a second `{tok.value}`", span,
                          hint="write `a < b and b < c`")
+    if prev is not None and prev.type == "NAME" and tok.type not in expected:
+        modelica = modelica_form_error(prev.value, _token_span(prev, span.file))
+        if modelica is not None:            # `when h < 0 then`, `reinit v`
+            return modelica
     if tok.type in _VALUE_TOKENS and adjacent is not None and adjacent.type in _VALUE_ENDERS \
             and adjacent.end_line == tok.line and tok.type not in expected:
         return DyadError(f"expected an operator or end of line after `{adjacent.value}`, "

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from compiler.syntax import ast
 from compiler.syntax.build_support import Else, RuleBase, split_doc, split_suffixes
+from compiler.syntax.modelica_forms import modelica_form_error
 
 
 class RelationRules(RuleBase):
@@ -23,6 +24,10 @@ class RelationRules(RuleBase):
                                   "`continuity(a.medium, b.medium)`", expr.span)
             return ast.Continuity(expr.args, doc=doc, span=span, metadata=suffixes.metadata,
                                   link=suffixes.link)
+        if isinstance(expr, ast.Call):
+            modelica = modelica_form_error(expr.function, expr.span)     # `reinit(v, 0)`
+            if modelica is not None:
+                raise modelica
         end = expr.span
         where = None if end is None else type(end)(end.file, end.end_line, end.end_column + 1,
                                                     end.end_line, end.end_column + 1)

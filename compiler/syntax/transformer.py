@@ -83,4 +83,27 @@ class AstBuilder(DefinitionRules, RelationRules, ExpressionRules):
         method = getattr(self, str(tree.data), None)
         if method is None:
             raise DyadError(f"internal: no AST rule for `{tree.data}`", self._span(tree.meta))
-        return method(tree.meta, children)
+        return method(meta_after_doc(tree), children)
+
+
+class _Position:
+    """A parse-tree `meta` that starts where a node's first child after its doc string starts."""
+    empty = False
+
+    def __init__(self, line: int, column: int, end_line: int, end_column: int):
+        self.line, self.column, self.end_line, self.end_column = line, column, end_line, end_column
+
+
+def meta_after_doc(tree: Tree):
+    """The node's position without its leading doc string: a declaration or relation (and every
+    error about it) is located at its keyword or name, never at the `"..."` documenting it."""
+    children = tree.children
+    if str(tree.data).endswith("_def"):
+        return tree.meta                 # a definition spans its documentation (see tests/syntax)
+    if len(children) < 2 or not isinstance(children[0], Tree) or children[0].data != "doc":
+        return tree.meta
+    after = children[1]
+    start = after.meta if isinstance(after, Tree) else after
+    if getattr(start, "line", None) is None or getattr(tree.meta, "empty", True):
+        return tree.meta
+    return _Position(start.line, start.column, tree.meta.end_line, tree.meta.end_column)

@@ -1,4 +1,4 @@
-"""Interpolation of tabulated data (compiler/model/interpolation.py, datasets.py, julia_values.py):
+"""Interpolation of tabulated data (compiler/model/interpolation.py, datasets.py, object_values.py):
 the interpolants against closed forms, then whole models of tests/library/interpolation/Signals.dyad
 run on the VM, in C and as a generated module, against the exact values and integrals."""
 from __future__ import annotations
@@ -17,7 +17,7 @@ from compiler.api import simulate
 from compiler.lower import ccodegen
 from compiler.lower.codegen import write_module
 from compiler.model import interpolation
-from compiler.model.julia_syntax import translate
+from compiler.julia.rewrite import translate
 from compiler.model.ranges import float_range
 from compiler.pipeline import compile_spec
 

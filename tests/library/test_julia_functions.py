@@ -12,7 +12,7 @@ import sympy
 from compiler.api import simulate
 from compiler.errors import DyadError
 from compiler.model.flatten import flatten_model
-from compiler.model.julia_functions import JuliaFunction, UnreadableFunction, read_julia_functions
+from compiler.julia.functions import JuliaFunction, UnreadableFunction, read_julia_functions
 
 HELPERS = '''
 """

@@ -12,7 +12,7 @@ import sympy
 from compiler.api import simulate
 from compiler.errors import DyadError
 from compiler.model.flatten import flatten_model
-from compiler.model.julia_objects import OpaqueJuliaCall, opaque_calls
+from compiler.julia.objects import OpaqueJuliaCall, opaque_calls
 from compiler.model.model_check import assess, require_standalone
 
 # methods chosen by the medium's type: a call with an unknown medium never picks one, a call with

@@ -11,7 +11,7 @@ few assignments and one returned expression in the part of Julia that Dyad expre
     end
 
 Those are read into a `JuliaFunction` (parameters, local assignments, result as Dyad expression
-ASTs; compiler/model/julia_bodies.py, which also reads `if`/`elseif`/`else` chains of returns and
+ASTs; compiler/julia/bodies.py, which also reads `if`/`elseif`/`else` chains of returns and
 default arguments) and evaluated like an inlined expression at the call. Everything else (loops,
 keyword arguments, names that are neither parameters nor earlier locals, ...) is kept as an
 `UnreadableFunction` whose reason a call reports. Julia's `&` and `|` on conditions are read as
@@ -24,10 +24,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from compiler.errors import DyadError
-from compiler.model.julia_bodies import MAX_CALL_DEPTH, JuliaFunction, read_function
-from compiler.model.julia_source import BLOCK_OPENERS, SHORT_FORM, Unreadable, tokens
+from compiler.julia.bodies import JuliaFunction, read_function
+from compiler.julia.source import BLOCK_OPENERS, SHORT_FORM, Unreadable, tokens
 
-__all__ = ["MAX_CALL_DEPTH", "JuliaFunction", "UnreadableFunction", "julia_source_files",
+__all__ = ["JuliaFunction", "UnreadableFunction", "julia_source_files",
            "read_julia_functions"]
 
 

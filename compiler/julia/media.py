@@ -1,6 +1,6 @@
 """Which medium a `path` connector field carries: the value of the `path` declaration joined to it
 by `connect` (connectors with path fields) and `continuity` relations, built from the package's
-Julia struct (compiler/model/julia_methods.py) with the declaration's keyword arguments over the
+Julia struct (compiler/julia/methods.py) with the declaration's keyword arguments over the
 struct's defaults. Read from the instance tree; nothing is modified."""
 from __future__ import annotations
 
@@ -10,8 +10,8 @@ from pathlib import Path
 from typing import Any, Callable
 
 from compiler.errors import DyadError, Note
-from compiler.model.julia_functions import UnreadableFunction, julia_source_files
-from compiler.model.julia_methods import JuliaDefinitions, JuliaStruct, pick_method, \
+from compiler.julia.functions import UnreadableFunction, julia_source_files
+from compiler.julia.methods import JuliaDefinitions, JuliaStruct, pick_method, \
     read_julia_definitions
 from compiler.syntax import ast
 

@@ -10,7 +10,7 @@ have one method per medium type, which Julia picks by the type of the argument:
     density(medium::Oil, p) = ...                # one method per medium type
     density(medium::Water, p) = ...
 
-dyadc reads both so that a call with a known medium (compiler/model/julia_objects.py) can pick the
+dyadc reads both so that a call with a known medium (compiler/julia/objects.py) can pick the
 method the way Julia would for these simple signatures: the method whose first typed parameter
 names the medium's struct, else one naming its declared supertype.
 """
@@ -20,9 +20,9 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-from compiler.model.julia_bodies import JuliaFunction, read_function
-from compiler.model.julia_functions import UnreadableFunction, top_level_functions
-from compiler.model.julia_source import BLOCK_OPENERS, Unreadable, expression
+from compiler.julia.bodies import JuliaFunction, read_function
+from compiler.julia.functions import UnreadableFunction, top_level_functions
+from compiler.julia.source import BLOCK_OPENERS, Unreadable, expression
 from compiler.syntax import ast
 
 _STRUCT = re.compile(r"^(?:(?:Base\.)?@kwdef\s+)?(?:mutable\s+)?struct\s+(\w+)"

@@ -11,8 +11,8 @@ A Dyad library passes data to its interpolation block as Julia objects:
 
 Such a parameter (a `Native` or function type, or a value naming an interpolation kind) keeps its
 binding here instead of becoming a numeric parameter (compiler/model/instantiate.py). When an
-equation calls it (compiler/model/julia_objects.py), `object_value` evaluates the binding with
-the rules below; a value it cannot build (no binding, a Julia call it does not know) is None, and
+equation calls it (`interpolator_call`, one of the object calls of compiler/model/object_calls.py),
+`object_value` evaluates the binding with the rules below; a value it cannot build (no binding, a Julia call it does not know) is None, and
 the call stays opaque as before: enough for `dyadc check`, refused by a run.
 
 - `DyadDataset(...)`: compiler/model/datasets.py; `LinearInterpolation`, ... : the kinds of
@@ -26,9 +26,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 from compiler.errors import DyadError, Note, Span
+from compiler.julia.objects import Evaluator, opaque, path_field_of
 from compiler.model import datasets, interpolation
 from compiler.model.interpolation import KINDS, InterpolationError, InterpolationKind, \
     PiecewisePolynomial
@@ -36,6 +37,8 @@ from compiler.syntax import ast
 
 _DATASET_FUNCTIONS = ("DyadDataset", "DyadData.DyadDataset")
 _INTERPOLATE_FUNCTION = "dataset_interpolation"
+
+Structural = Callable[[ast.Expr, Any], Any]     # a compile-time value of an expression in a scope
 
 
 @dataclass
@@ -75,7 +78,23 @@ def record(node: Any, name: str, expr: ast.Expr | None, scope: Any, span: Span |
     node.object_bindings[name] = ObjectBinding(path, expr, scope, span)
 
 
-def object_value(node: Any, name: str) -> Any:
+def interpolator_call(call: ast.Call, scope: Any, evaluator: Evaluator) -> Any:
+    """`interpolator(u)` through a Julia-object parameter of the scope's node: the interpolant
+    applied to `u` when dyadc could build it, else an opaque function of the numeric arguments;
+    None when `call` is not such a call."""
+    node = scope.node
+    if "." in call.function or call.function not in getattr(node, "path_fields", {}):
+        return None
+    numeric = [evaluator.value(arg, scope) for arg in call.args
+               if path_field_of(arg, node) is None]
+    table = object_value(node, call.function, evaluator.structural)
+    if isinstance(table, PiecewisePolynomial):
+        path = f"{node.path}.{call.function}" if node.path else call.function
+        return applied(table, path, numeric, call.span)
+    return opaque(call.function, numeric)
+
+
+def object_value(node: Any, name: str, structural: Structural) -> Any:
     """The value of Julia-object parameter `name` of `node`; None when dyadc cannot build it."""
     binding = getattr(node, "object_bindings", {}).get(name)
     if binding is None or binding.expr is None:
@@ -86,7 +105,7 @@ def object_value(node: Any, name: str) -> Any:
         raise DyadError(f"`{binding.path}` is defined in terms of itself", binding.span)
     binding._state = "evaluating"
     try:
-        binding._value = evaluate_object(binding.expr, binding.scope)
+        binding._value = evaluate_object(binding.expr, binding.scope, structural)
     finally:
         binding._state = "new"
     binding._state = "done"
@@ -100,21 +119,21 @@ def applied(table: PiecewisePolynomial, path: str, arguments: list, span: Span |
     return interpolation.function(table, path)(arguments[0])
 
 
-def evaluate_object(expr: ast.Expr, scope: Any) -> Any:
+def evaluate_object(expr: ast.Expr, scope: Any, structural: Structural) -> Any:
     if isinstance(expr, ast.Ref):
-        return _reference(expr, scope)
+        return _reference(expr, scope, structural)
     if isinstance(expr, ast.Call):
         function = expr.function
         if function in _DATASET_FUNCTIONS:
-            return _dataset(expr, scope)
+            return _dataset(expr, scope, structural)
         if function.rpartition(".")[2] == _INTERPOLATE_FUNCTION:
-            return _dataset_interpolation(expr, scope)
+            return _dataset_interpolation(expr, scope, structural)
         if function in KINDS and function not in scope.node.member_names():
-            return _direct_interpolation(expr, scope)
+            return _direct_interpolation(expr, scope, structural)
     return None
 
 
-def _reference(ref: ast.Ref, scope: Any) -> Any:
+def _reference(ref: ast.Ref, scope: Any, structural: Structural) -> Any:
     if any(part.indices for part in ref.parts):
         return None
     node = scope.node
@@ -124,7 +143,7 @@ def _reference(ref: ast.Ref, scope: Any) -> Any:
             return None
     name = ref.parts[-1].name
     if name in getattr(node, "path_fields", {}):
-        return object_value(node, name)
+        return object_value(node, name, structural)
     if len(ref.parts) == 1 and name in KINDS and name not in scope.bindings \
             and name not in node.member_names():
         return InterpolationKind(name)
@@ -133,7 +152,7 @@ def _reference(ref: ast.Ref, scope: Any) -> Any:
 
 # ------------------------------------------------------------------------------ DyadDataset
 
-def _dataset(call: ast.Call, scope: Any) -> datasets.Dataset:
+def _dataset(call: ast.Call, scope: Any, structural: Structural) -> datasets.Dataset:
     keywords = {k.name: k.value for k in call.kwargs}
     unknown = sorted(set(keywords) - {"independent_var", "dependent_vars"})
     if unknown:
@@ -142,17 +161,16 @@ def _dataset(call: ast.Call, scope: Any) -> datasets.Dataset:
     for needed in ("independent_var", "dependent_vars"):
         if needed not in keywords:
             raise DyadError(f"DyadDataset needs `{needed} = ...`", call.span)
-    independent = _string(keywords["independent_var"], scope, "independent_var")
-    dependent = _strings(keywords["dependent_vars"], scope)
+    independent = _string(keywords["independent_var"], scope, structural, "independent_var")
+    dependent = _strings(keywords["dependent_vars"], scope, structural)
     if len(call.args) == 2:
-        owner, name = (_string(arg, scope, "a JuliaHub dataset's owner and name") for arg in call.args)
+        owner, name = (_string(arg, scope, structural, "a JuliaHub dataset's owner and name")
+                       for arg in call.args)
         raise datasets.remote(owner, name, call.span)
     if len(call.args) != 1:
         raise DyadError(f"DyadDataset takes a file name or a matrix (or a JuliaHub owner and "
                         f"name), got {len(call.args)} arguments", call.span)
-    from compiler.model.expressions import Mode, evaluate
-    source = call.args[0]
-    value = evaluate(source, scope, Mode.STRUCTURAL)
+    value = structural(call.args[0], scope)
     if isinstance(value, str):
         library = scope.lexical.library
         path = datasets.locate(value, call.span, list(getattr(library, "roots", [])))
@@ -161,19 +179,19 @@ def _dataset(call: ast.Call, scope: Any) -> datasets.Dataset:
     return datasets.from_matrix(value, independent, dependent, call.span)
 
 
-def _string(expr: ast.Expr, scope: Any, what: str) -> str:
-    from compiler.model.expressions import Mode, evaluate
-    value = evaluate(expr, scope, Mode.STRUCTURAL)
+def _string(expr: ast.Expr, scope: Any, structural: Structural, what: str) -> str:
+    value = structural(expr, scope)
     if not isinstance(value, str):
         raise DyadError(f"DyadDataset: {what} must be a string", getattr(expr, "span", None))
     return value
 
 
-def _strings(expr: ast.Expr, scope: Any) -> tuple[str, ...]:
+def _strings(expr: ast.Expr, scope: Any, structural: Structural) -> tuple[str, ...]:
     if not isinstance(expr, ast.ArrayLit) or expr.is_matrix or not expr.elements:
         raise DyadError("DyadDataset: dependent_vars must be a list of column names, e.g. "
                         "[\"y\"]", getattr(expr, "span", None))
-    return tuple(_string(element, scope, "each dependent variable") for element in expr.elements)
+    return tuple(_string(element, scope, structural, "each dependent variable")
+                 for element in expr.elements)
 
 
 def _note_read(library: Any, paths: list[Path]) -> None:
@@ -186,12 +204,13 @@ def _note_read(library: Any, paths: list[Path]) -> None:
 
 # ------------------------------------------------------------------------------ interpolations
 
-def _dataset_interpolation(call: ast.Call, scope: Any) -> PiecewisePolynomial | None:
+def _dataset_interpolation(call: ast.Call, scope: Any, structural: Structural
+                           ) -> PiecewisePolynomial | None:
     if len(call.args) != 2 or call.kwargs:
         raise DyadError("`dataset_interpolation` takes an interpolation kind and a dataset",
                         call.span)
-    kind = _kind(call.args[0], scope)
-    dataset = evaluate_object(call.args[1], scope)
+    kind = _kind(call.args[0], scope, structural)
+    dataset = evaluate_object(call.args[1], scope, structural)
     if kind is None or dataset is None:
         return None                         # not given here (a component checked alone)
     if not isinstance(dataset, datasets.Dataset):
@@ -207,18 +226,17 @@ def _dataset_interpolation(call: ast.Call, scope: Any) -> PiecewisePolynomial | 
                   call.span, dataset.span)
 
 
-def _direct_interpolation(call: ast.Call, scope: Any) -> PiecewisePolynomial:
-    from compiler.model.expressions import Mode, evaluate
+def _direct_interpolation(call: ast.Call, scope: Any, structural: Structural) -> PiecewisePolynomial:
     if len(call.args) != 2 or call.kwargs:
         raise DyadError(f"`{call.function}(values, times)` takes two arrays (dyadc supports no "
                         f"options)", call.span)
-    u, t = (_floats(evaluate(arg, scope, Mode.STRUCTURAL), call) for arg in call.args)
+    u, t = (_floats(structural(arg, scope), call) for arg in call.args)
     return _build(InterpolationKind(call.function), u, t, f"{call.function} at {call.span}",
                   call.span, None)
 
 
-def _kind(expr: ast.Expr, scope: Any) -> InterpolationKind | None:
-    value = evaluate_object(expr, scope)
+def _kind(expr: ast.Expr, scope: Any, structural: Structural) -> InterpolationKind | None:
+    value = evaluate_object(expr, scope, structural)
     if value is None or isinstance(value, InterpolationKind):
         return value
     raise DyadError(f"not an interpolation kind; dyadc knows {', '.join(KINDS)}",

@@ -1,5 +1,5 @@
-"""Lexical pieces shared by the readers of Julia sources (compiler/model/julia_functions.py, its
-bodies in julia_bodies.py, structs and methods in julia_methods.py): tokens, statements, and Julia
+"""Lexical pieces shared by the readers of Julia sources (compiler/julia/functions.py, its
+bodies in bodies.py, structs and methods in methods.py): tokens, statements, and Julia
 expressions read as Dyad expression ASTs. Nothing here executes Julia."""
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import re
 from dataclasses import fields, is_dataclass
 
 from compiler.errors import DyadError
-from compiler.model import julia_syntax
+from compiler.julia import rewrite
 from compiler.syntax import ast
 
 # Julia keywords that open a block closed by `end`
@@ -76,7 +76,7 @@ def first_word(statement: str) -> str | None:
 
 def expression(source: str, text: str, offset: int, path: str, known: set[str]) -> ast.Expr:
     from compiler.syntax.parser import parse_expression
-    translated = re.sub(r"(?<![&|])([&|])(?![&|])", r"\1\1", julia_syntax.translate(source))
+    translated = re.sub(r"(?<![&|])([&|])(?![&|])", r"\1\1", rewrite.translate(source))
     line = text.count("\n", 0, offset)
     column = offset - (text.rfind("\n", 0, offset) + 1)
     try:

@@ -7,13 +7,12 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass
 
-from compiler.model.julia_source import ASSIGNMENT, BLOCK_OPENERS, PARAMETER, Unreadable, \
+from compiler.julia.source import ASSIGNMENT, BLOCK_OPENERS, PARAMETER, Unreadable, \
     expression, first_word, statements as split_statements
 from compiler.syntax import ast
 
 _TYPE = re.compile(r"::\s*([\w.]+)")
 _UNPACK = re.compile(r"^@unpack\s+([\w\s,]+?)\s*=\s*(\w+)$")
-MAX_CALL_DEPTH = 32                   # a function calling itself would never stop being inlined
 
 
 @dataclass(frozen=True)
@@ -27,7 +26,7 @@ class JuliaFunction:
     # trailing parameters with a default value (`delta = 1`), in order; also in `parameters`
     defaults: tuple[tuple[str, ast.Expr], ...] = ()
     # `@unpack a, b = medium`: (a, medium), ...: fields of an object argument, bound by the caller
-    # that knows the object (compiler/model/julia_objects.py)
+    # that knows the object (compiler/julia/objects.py)
     unpacks: tuple[tuple[str, str], ...] = ()
     types: tuple[str | None, ...] = ()          # each parameter's `::Type`, None if untyped
 

@@ -1,5 +1,5 @@
 """Two Julia spellings rewritten into the Dyad expressions they mean, before a Julia function's
-body is parsed (compiler/model/julia_source.py):
+body is parsed (compiler/julia/source.py):
 
 - the broadcast macro `@. expr`: every operator of `expr` applies element by element
   (`@. r^2 + 1` is `r .^ 2 .+ 1`);

@@ -9,23 +9,34 @@ closes the path, and joined to a port with `continuity`:
     continuity(medium, tank.port.medium)
 
 When the path holds such a declaration and the medium is a Julia struct of the package
-(compiler/model/julia_methods.py), the call is evaluated: the method typed with the struct (or
+(compiler/julia/methods.py), the call is evaluated: the method typed with the struct (or
 its supertype) is inlined with the medium's field values (`@unpack` in its body). Otherwise (a
 component checked alone, with its ports open) the call becomes an opaque function of its numeric
 arguments: enough for balance, matching and `dyadc check`, while a run refuses the model with
 the call named (`opaque_calls`, compiler/model/model_check.py).
+
+The model's evaluator reaches `medium_call` through its registry of object calls
+(compiler/model/object_calls.py) and hands it an `Evaluator`; nothing here imports
+compiler.model.
 """
 from __future__ import annotations
 
-from typing import Any, Callable
+from dataclasses import replace
+from typing import Any, Callable, Protocol
 
 from sympy.core.function import AppliedUndef, UndefinedFunction
 
 from compiler.errors import DyadError
-from compiler.model import julia_values
-from compiler.model.interpolation import PiecewisePolynomial
-from compiler.model.julia_media import Medium, medium_of
+from compiler.julia.media import Medium, medium_of
+from compiler.julia.source import refs
 from compiler.syntax import ast
+
+
+class Evaluator(Protocol):
+    """What a handler of object calls may use of the model's evaluator."""
+    value: Callable[[ast.Expr, Any], Any]         # a scalar argument's value, in the call's mode
+    structural: Callable[[ast.Expr, Any], Any]    # a value known at compile time
+    inline: Callable[[Any, list], Any]            # a read Julia function applied to arguments
 
 
 class OpaqueJuliaCall(AppliedUndef):
@@ -44,54 +55,36 @@ def path_field_of(ref: ast.Expr, node: Any) -> str | None:
     return ref.dotted if ref.parts[-1].name in getattr(node, "path_fields", {}) else None
 
 
-def object_call(call: ast.Call, scope: Any, evaluate_in: Callable[[ast.Expr, Any], Any],
-                inline: Callable[[Any, list], Any]) -> Any:
-    """The value of a call with a `path` field among its arguments, else None (an ordinary
-    call). `evaluate_in(expr, scope)` gives a value, `inline(function, arguments)` inlines a read
-    Julia function."""
+def medium_call(call: ast.Call, scope: Any, evaluator: Evaluator) -> Any:
+    """The value of a call with a `path` field (a medium) among its arguments, else None (not
+    such a call)."""
     node, lexical = scope.node, scope.lexical
     objects = [path_field_of(arg, node) for arg in call.args]
-    evaluate_in = _scalars_only(evaluate_in, call)
-    if "." not in call.function and call.function in getattr(node, "path_fields", {}):
-        # a call through a Julia object (an interpolator): a function of its numeric arguments
-        numeric = [evaluate_in(arg, scope) for arg, obj in zip(call.args, objects) if obj is None]
-        table = julia_values.object_value(node, call.function)
-        if isinstance(table, PiecewisePolynomial):      # an interpolator dyadc could build
-            path = f"{node.path}.{call.function}" if node.path else call.function
-            return julia_values.applied(table, path, numeric, call.span)
-        return UndefinedFunction(call.function, bases=(OpaqueJuliaCall,))(*numeric)
     if not any(objects):
         return None
     if call.kwargs:
         raise DyadError(f"`{call.function}` with a medium takes no keyword arguments", call.span)
-    numeric = [evaluate_in(arg, scope) for arg, obj in zip(call.args, objects) if obj is None]
+    numeric = [evaluator.value(arg, scope) for arg, obj in zip(call.args, objects) if obj is None]
     position = next(i for i, obj in enumerate(objects) if obj)
-    medium = medium_of(node, objects[position], lexical, evaluate_in)
+    medium = medium_of(node, objects[position], lexical, evaluator.value)
     if medium is None or sum(1 for obj in objects if obj) > 1:
         package = lexical.package
         qualified = call.function if "." in call.function or not package \
             else f"{package}.{call.function}"
-        return UndefinedFunction(qualified, bases=(OpaqueJuliaCall,))(*numeric)
+        return opaque(qualified, numeric)
     method = medium.method(call.function, position, call.span)
-    return inline(_specialized(method, position, call.span),
-                  [medium.values[field] for field, _ in method.unpacks] + numeric)
+    return evaluator.inline(_specialized(method, position, call.span),
+                            [medium.values[field] for field, _ in method.unpacks] + numeric)
 
 
-def _scalars_only(evaluate_in: Callable[[ast.Expr, Any], Any], call: ast.Call):
-    """`evaluate_in`, refusing array values: an opaque call or a medium's field is a scalar."""
-    def evaluate(arg: ast.Expr, at: Any) -> Any:
-        value = evaluate_in(arg, at)
-        if getattr(value, "shape", ()) != ():
-            raise DyadError(f"`{call.function}` with a Julia object takes scalar arguments",
-                            getattr(arg, "span", None) or call.span)
-        return value
-    return evaluate
+def opaque(name: str, arguments: list) -> Any:
+    """`name(arguments...)` as a function whose value dyadc cannot compute."""
+    return UndefinedFunction(name, bases=(OpaqueJuliaCall,))(*arguments)
 
 
 def _specialized(method, position: int, span) -> Any:
     """The method with its object parameter replaced by the fields it unpacks, which become its
     first parameters (the caller passes their values)."""
-    from dataclasses import replace
     object_name = method.parameters[position]
     if any(source != object_name for _, source in method.unpacks) or _uses(method, object_name):
         raise DyadError(f"`{method.name}` ({method.file}:{method.line}) uses its medium "
@@ -102,7 +95,6 @@ def _specialized(method, position: int, span) -> Any:
 
 
 def _uses(method, name: str) -> bool:
-    from compiler.model.julia_source import refs
     shadowed = {field for field, _ in method.unpacks} | {local for local, _ in method.locals}
     if name in shadowed:
         return False
@@ -119,4 +111,5 @@ def opaque_calls(expressions) -> list[str]:
     return sorted(found)
 
 
-__all__ = ["Medium", "OpaqueJuliaCall", "object_call", "opaque_calls", "path_field_of"]
+__all__ = ["Evaluator", "Medium", "OpaqueJuliaCall", "medium_call", "opaque", "opaque_calls",
+           "path_field_of"]

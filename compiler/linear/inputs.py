@@ -1,0 +1,102 @@
+"""Inputs of a linearization, made from the flat model: free top-level inputs and analysis points.
+
+A top-level `input` left open becomes a parameter of the compiled functions (value 0 unless
+given), so the compiled model is an ordinary closed one and its Jacobian w.r.t. that parameter is
+the input column. An analysis point `P: analysis_point(a.y, b.u)` (Dyad's meaning) is the
+connection `b.u = a.y`; as an input it becomes `b.u = a.y + P` (an additive perturbation, a new
+parameter named P); opened, `b.u = P` (the connection removed, the input signal driven by P); as
+an output it reads its output signal `a.y`.
+"""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import sympy
+
+from compiler.errors import DyadError, suggest_name
+from compiler.model.flat import INPUT, Equation, FlatSystem, Origin, Parameter, symbol
+
+
+@dataclass(frozen=True)
+class AnalysisPoint:
+    name: str
+    outputs: tuple[str, ...]       # the output signal's scalar names (a.y)
+    inputs: tuple[str, ...]        # the input signal's scalar names (b.u)
+    span: object = None
+
+    def scalar_names(self) -> list[str]:
+        """The names of its perturbations: P, or P[1], P[2], ... for an array signal."""
+        if len(self.inputs) == 1:
+            return [self.name]
+        return [f"{self.name}[{k + 1}]" for k in range(len(self.inputs))]
+
+
+def analysis_points(flat: FlatSystem) -> dict[str, AnalysisPoint]:
+    found = flat.metadata.get("analysis_points") or {}
+    return {name: AnalysisPoint(name, tuple(out), tuple(inp), span)
+            for name, (out, inp, span) in found.items()}
+
+
+def free_inputs(flat: FlatSystem) -> list[str]:
+    return [v.name for v in flat.variables if v.kind == INPUT]
+
+
+def analysis_point(flat: FlatSystem, name: str) -> AnalysisPoint:
+    points = analysis_points(flat)
+    if name not in points:
+        listed = ", ".join(sorted(points)) or "none"
+        close = suggest_name(name, points)
+        raise DyadError(f"`{flat.name}` has no analysis point `{name}`" + (f"; {close}" if close else ""),
+                        _model_span(flat),
+                        hint=f"its analysis points: {listed} (declared as `NAME: "
+                             f"analysis_point(output_signal, input_signal)`)")
+    return points[name]
+
+
+def with_linear_inputs(flat: FlatSystem, perturbed: list[str] = (), opened: list[str] = ()
+                       ) -> FlatSystem:
+    """`flat` with every free top-level input a parameter (value 0), an additive perturbation
+    parameter at each analysis point of `perturbed`, and the connection of each point of `opened`
+    replaced by a parameter driving its input signal."""
+    taken = {v.name for v in flat.variables} | {p.name for p in flat.parameters}
+    equations = list(flat.equations)
+    added: list[Parameter] = []
+    for name in dict.fromkeys([*opened, *perturbed]):
+        point = analysis_point(flat, name)
+        for k, (out, inp, param) in enumerate(zip(point.outputs, point.inputs, point.scalar_names())):
+            if param in taken:
+                raise DyadError(f"analysis point `{name}` has the name of a variable or parameter of "
+                                f"`{flat.name}`, so it cannot name an input", point.span)
+            index = _connection_index(equations, out, inp)
+            if index is None:
+                raise DyadError(f"analysis point `{name}`: no connection `{inp} = {out}` found in "
+                                f"the flat model (its output signal drives another set?)", point.span)
+            old = equations[index]
+            driven = symbol(param) if name in opened else symbol(out) + symbol(param)
+            equations[index] = Equation(symbol(inp) - driven, old.origin, "analysis_point")
+            added.append(Parameter(param, 0.0, origin=Origin("", point.span),
+                                   description=f"perturbation at analysis point {name}"))
+            taken.add(param)
+    variables = [v for v in flat.variables if v.kind != INPUT]
+    inputs = [Parameter(v.name, 0.0, units=v.units, description=v.description, origin=v.origin)
+              for v in flat.variables if v.kind == INPUT]
+    metadata = dict(flat.metadata)
+    metadata["linear_inputs"] = [q.name for q in inputs + added]
+    return dataclasses.replace(flat, variables=variables, equations=equations,
+                               parameters=list(flat.parameters) + inputs + added, metadata=metadata)
+
+
+def _model_span(flat: FlatSystem):
+    from compiler.model.balance import span_from_text
+    return span_from_text(flat.metadata.get("model_span"))
+
+
+def _connection_index(equations: list[Equation], out: str, inp: str) -> int | None:
+    target = symbol(inp) - symbol(out)
+    for i, equation in enumerate(equations):
+        if equation.kind == "connect" and sympy.expand(equation.residual - target) == 0:
+            return i
+        if equation.kind == "connect" and sympy.expand(equation.residual + target) == 0:
+            return i
+    return None

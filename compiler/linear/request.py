@@ -1,0 +1,166 @@
+"""From a model name to its linear model: compile (from the cache when nothing needs the flat
+model), choose the operating point, linearize; and the closed-loop functions at an analysis
+point (sensitivity S, complementary sensitivity T, loop transfer L) in one sign convention:
+
+    u_P = y_P + d (the perturbation d at P's input signal)   S = d u_P / d d,  T = -d y_P / d d
+    P opened, u_P = d                                        L = -d y_P / d d
+
+so that S + T = I exactly and S = (I + L)^-1 for a loop closed through P with negative feedback.
+"""
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass, field
+from typing import Mapping, Sequence
+
+from compiler.errors import DyadError
+from compiler.linear.inputs import analysis_points, free_inputs, with_linear_inputs
+from compiler.linear.operating_point import initial_point, point_of_run, steady_point
+from compiler.linear.system import LinearSystem, linearize_at
+
+
+@dataclass(frozen=True)
+class Request:
+    """What to linearize: `inputs` are free top-level inputs or analysis points (default: every
+    free input); `outputs` any variable or analysis point (default: the top-level outputs, else the
+    states); `at` a time to run to, `steady` a Newton solve for a steady state, else the initial
+    point; `op` input values at the point; `params` parameter overrides; `opened` analysis points
+    whose connection is removed."""
+    inputs: tuple[str, ...] = ()
+    outputs: tuple[str, ...] = ()
+    at: float | None = None
+    steady: bool = False
+    op: Mapping[str, float] = field(default_factory=dict)
+    params: Mapping[str, float] = field(default_factory=dict)
+    opened: tuple[str, ...] = ()
+    minimal: bool = False
+
+
+def linearize_spec(spec: str, request: Request, lib_dirs: Sequence[str] = (), cache: bool = True
+                   ) -> LinearSystem:
+    compiled = compile_linear(spec, request, lib_dirs, cache)
+    return _linearize(compiled, request)
+
+
+def closed_loop_function(spec: str, kind: str, point: str, request: Request,
+                         lib_dirs: Sequence[str] = ()) -> LinearSystem:
+    """`kind` "sensitivity", "comp_sensitivity" or "loop_transfer" at analysis point `point`."""
+    opened = tuple(request.opened) + ((point,) if kind == "loop_transfer" else ())
+    asked = dataclasses.replace(request, inputs=(point,), outputs=(point,), opened=opened, minimal=False)
+    compiled = compile_linear(spec, asked, lib_dirs, cache=False)
+    ap = analysis_points(compiled.flat)[point]
+    measured = list(ap.inputs if kind == "sensitivity" else ap.outputs)
+    labels = ap.scalar_names()
+    system = _linearize(compiled, dataclasses.replace(asked, outputs=()), inputs=labels,
+                        outputs=measured, labels=labels)
+    if kind != "sensitivity":
+        system = dataclasses.replace(system, C=-system.C, D=-system.D)
+    return system.minimal_realization() if request.minimal else system
+
+
+@dataclass
+class LinearCompilation:
+    """The compiled model behind a linearization, with the flat model it was compiled from (None
+    when it came from the cache) and the names of its parameters that are inputs."""
+    compilation: object
+    flat: object | None
+    inputs: list[str]            # every parameter that is an input
+    free: list[str] = field(default_factory=list)     # the free top-level inputs among them
+
+
+def compile_linear(spec: str, request: Request, lib_dirs: Sequence[str], cache: bool) -> LinearCompilation:
+    """From the cache when nothing needs the flat model; else with free inputs and the analysis
+    points the request perturbs or opens made parameters (compiler/linear/inputs.py)."""
+    from compiler.pipeline import compile_flat, compile_or_load, flatten_spec
+    if cache and not request.inputs and not request.opened:
+        from compiler.cache import models
+        from compiler.cache.store import CacheError
+        try:
+            found = models.load(spec, lib_dirs)
+        except (OSError, CacheError):
+            found = None
+        if found is not None and all(n in found.model.output_names for n in request.outputs):
+            return LinearCompilation(found, None, [])
+    flat = flatten_spec(spec, lib_dirs)[0]
+    points = analysis_points(flat)
+    free = free_inputs(flat)
+    for name in (*request.inputs, *request.opened):
+        if name not in points and (name in request.opened or name not in free):
+            _unknown(flat, name, points, free, opening=name in request.opened)
+    perturbed = [n for n in request.inputs if n in points]
+    if not (perturbed or request.opened or free):
+        compilation = compile_or_load(spec, lib_dirs, cache=cache)
+        return LinearCompilation(compilation, flat, [])
+    changed = with_linear_inputs(flat, perturbed, list(request.opened))
+    return LinearCompilation(compile_flat(changed), changed, list(changed.metadata["linear_inputs"]), free)
+
+
+def _unknown(flat, name: str, points, free, opening: bool):
+    from compiler.errors import suggest_name
+    from compiler.model.balance import span_from_text
+    candidates = list(points) if opening else list(points) + list(free)
+    close = suggest_name(name, candidates)
+    what = "an analysis point" if opening else "a free top-level input or an analysis point"
+    raise DyadError(f"`{name}` is not {what} of `{flat.name}`" + (f"; {close}" if close else ""),
+                    span_from_text(flat.metadata.get("model_span")),
+                    hint=f"its free inputs: {', '.join(free) or 'none'}; its analysis points: "
+                         f"{', '.join(sorted(points)) or 'none'}")
+
+
+def _linearize(compiled: LinearCompilation, request: Request, inputs: Sequence[str] | None = None,
+               outputs: Sequence[str] | None = None, labels: Sequence[str] | None = None) -> LinearSystem:
+    model = compiled.compilation.model
+    if inputs is None:
+        inputs = list(request.inputs) or list(compiled.free)
+    for name in request.op:
+        if name not in compiled.inputs:
+            raise DyadError(f"--op {name}=...: `{name}` is not an input of this linearization",
+                            hint=f"its inputs: {', '.join(compiled.inputs) or 'none'}; a parameter "
+                                 f"takes -p NAME=VALUE")
+    if outputs is None:
+        outputs, labels = _outputs(compiled, request)
+    p = model.parameter_vector({**dict(request.params), **dict(request.op)})
+    point = initial_point(model, p)
+    if request.at is not None:
+        point = point_of_run(model, p, _run(compiled, request), _switcher(compiled))
+    if request.steady:
+        point = steady_point(point)
+    system = linearize_at(point, list(inputs), list(outputs), labels)
+    return system.minimal_realization() if request.minimal else system
+
+
+def _outputs(compiled: LinearCompilation, request: Request) -> tuple[list[str], list[str]]:
+    model = compiled.compilation.model
+    points = analysis_points(compiled.flat) if compiled.flat is not None else {}
+    if not request.outputs:
+        from compiler.model.flat import OUTPUT
+        tops = [v.name for v in compiled.flat.variables if v.kind == OUTPUT] if compiled.flat else []
+        names = [n for n in tops if n in model.output_names] or list(model.state_names)
+        return names, names
+    names, labels = [], []
+    for name in request.outputs:
+        if name in points and name not in model.output_names:
+            signals = points[name].outputs
+            names += list(signals)
+            labels += points[name].scalar_names()
+        else:
+            model.output_index(name)          # unknown names: an error with "did you mean"
+            names.append(name)
+            labels.append(name)
+    return names, labels
+
+
+def _run(compiled: LinearCompilation, request: Request):
+    from compiler.api import simulate_compiled
+    overrides = {**dict(request.params), **dict(request.op)}
+    return simulate_compiled(compiled.compilation, float(request.at), points=2, params=overrides or None)
+
+
+def _switcher(compiled: LinearCompilation):
+    compilation = compiled.compilation
+    model = compilation.model
+    if getattr(compilation, "dynamic", False) and not model.variants and model.universal is None:
+        from compiler.lower.state_set_variants import Switcher
+        return Switcher(compilation.flat, compilation.analysis, compilation.variant, model)
+    return None
+
