@@ -86,7 +86,7 @@ class RunState:
             tightened = ({name: value / factor for name, value in atol.items()}
                          if isinstance(atol, Mapping) else atol / factor)
             opts = integrator_options(model, self.options.rtol / factor, tightened,
-                                      self.options.max_steps, self.options.idas_options())
+                                      self.options.max_steps, self.options.idas_options(), switched)
             public_index = [model.output_index(n) for n in self.public]
             self.integrators[key] = (model, IdasIntegrator(model, opts), watch, public_index)
         return self.integrators[key][1:]
