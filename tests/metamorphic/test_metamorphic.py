@@ -39,24 +39,18 @@ KNOWN = {
 }
 
 
+def _case(label: str, seed: int):
+    if (label, seed) not in KNOWN:
+        return (label, seed)
+    why, kind = KNOWN[label, seed]
+    return pytest.param(label, seed, marks=pytest.mark.xfail(strict=True, reason=why, raises=kind))
+
+
 def _cases():
     requested = os.environ.get("DYADC_METAMORPHIC_EXAMPLES")
     if not requested:
-        return list(SAMPLE) + [pytest.param(*case, marks=pytest.mark.xfail(strict=True, reason=why, raises=kind))
-                               for case, (why, kind) in KNOWN.items()]
-    return [(base.label, seed) for base in BASES for seed in range(int(requested))]
-
-
-@pytest.fixture(scope="session")
-def base_runs():
-    """label -> (the base's run at its tolerance, at the reference tolerance), run once."""
-    cache = {}
-
-    def get(base):
-        if base.label not in cache:
-            cache[base.label] = agreement.run(base.path, base, base.rtol, agreement.REFERENCE_RTOL)
-        return cache[base.label]
-    return get
+        return [_case(*case) for case in SAMPLE + tuple(KNOWN)]
+    return [_case(base.label, seed) for base in BASES for seed in range(int(requested))]
 
 
 def _id(case) -> str:
