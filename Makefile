@@ -15,7 +15,7 @@ $(STAMP): pyproject.toml setup.py
 	touch $(STAMP)
 
 run: install
-	$(BIN)/python -c "from compiler.render.scene_outputs import main_scene_outputs; raise SystemExit(main_scene_outputs('out'))"
+	$(BIN)/python -c "from compiler.render.scene_outputs import write_scene_outputs; print(*write_scene_outputs('out'), sep='\n')"
 
 test: install
 	$(BIN)/python -m pytest -n 2 tests
