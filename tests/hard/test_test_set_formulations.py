@@ -78,7 +78,8 @@ def test_andrews_as_the_test_set_writes_it_has_six_digits_in_all_27_components(f
     path.write_text(format_file(dataclasses.replace(file, definitions=(rewritten,))), encoding="utf-8")
     result = api.simulate_compiled(api.compile(str(path)), andrews.T_END, points=31, rtol=1e-10, atol=1e-10)
     # Measured as written (worst per group): angles 9.1, rates 7.0, accelerations 6.9, multipliers
-    # 8.0 digits; the other formulations within 0.3 of these. Before the fix: w1 4.7, v3-v7 4.9.
+    # 8.0 digits; sides swapped 8.5, 6.4, 6.3, 7.4; scaled 10.1, 8.0, 7.9, 9.0; one side as written.
+    # Before the fix (main d43db36), every formulation: 7.0, 4.9, 4.7, 5.9.
     for group, names in GROUPS.items():
         found = digits(result, names, andrews_reference[group])
         assert found.min() >= 6.0, (group, dict(zip(names, np.round(found, 2))))
