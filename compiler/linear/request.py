@@ -80,7 +80,9 @@ def compile_linear(spec: str | FlatSystem, request: Request, lib_dirs: Sequence[
     (compiler/linear/inputs.py)."""
     from compiler.pipeline import compile_flat, compile_or_load, flatten_spec
     given = None if isinstance(spec, str) else spec
-    if given is None and cache and not request.inputs and not request.opened:
+    # the cache holds the model alone: enough when the outputs are named (the default outputs,
+    # the top-level ones, need the flat model) and nothing is perturbed or opened
+    if given is None and cache and request.outputs and not request.inputs and not request.opened:
         from compiler.cache import models
         from compiler.cache.store import CacheError
         try:
@@ -121,7 +123,8 @@ def _linearize(compiled: LinearCompilation, request: Request, inputs: Sequence[s
         inputs = list(request.inputs) or list(compiled.free)
     for name in request.op:
         if name not in compiled.inputs:
-            raise DyadError(f"--op {name}=...: `{name}` is not an input of this linearization",
+            raise DyadError(f"--op {name}=...: `{name}` is not an input of this linearization (only "
+                            f"an input takes a value at the operating point)",
                             hint=f"its inputs: {', '.join(compiled.inputs) or 'none'}; a parameter "
                                  f"takes -p NAME=VALUE")
     if outputs is None:
