@@ -91,7 +91,8 @@ def compile_linear(spec: str | FlatSystem, request: Request, lib_dirs: Sequence[
             found = None
         if found is not None and all(n in found.model.output_names for n in request.outputs):
             return LinearCompilation(found, None, [])
-    from compiler.linear.inputs import analysis_points, free_inputs, with_linear_inputs
+    from compiler.linear.inputs import analysis_points, check_not_differentiated, free_inputs, \
+        with_linear_inputs
     flat = given or flatten_spec(spec, lib_dirs)[0]
     points = analysis_points(flat)
     free = free_inputs(flat)
@@ -103,7 +104,11 @@ def compile_linear(spec: str | FlatSystem, request: Request, lib_dirs: Sequence[
         compilation = compile_flat(flat) if given else compile_or_load(spec, lib_dirs, cache=cache)
         return LinearCompilation(compilation, flat, [])
     changed = with_linear_inputs(flat, perturbed, list(request.opened))
-    return LinearCompilation(compile_flat(changed), changed, list(changed.metadata["linear_inputs"]), free)
+    compilation = compile_flat(changed)
+    inputs = list(changed.metadata["linear_inputs"])
+    # an input held constant at the operating point is right; one linearized from must not need der()
+    check_not_differentiated(changed, compilation.analysis, list(request.inputs) or free)
+    return LinearCompilation(compilation, changed, inputs, free)
 
 
 def _unknown(flat, name: str, points, free, opening: bool):
