@@ -54,6 +54,16 @@ def cold_start(repeat: int) -> dict:
     return {"samples": samples, "why": why}
 
 
+def output_start(repeat: int) -> dict:
+    """Wall and CPU medians of new processes: `import casadi, numpy`, a cached `dyadc simulate` of
+    the excavator, and the same writing a CSV (bench_output_start.py, issue 28)."""
+    import bench_coldstart
+    import bench_output_start
+    with tempfile.TemporaryDirectory(prefix="dyadc-bench-sources-") as copy:
+        bench_coldstart.SOURCES = bench_coldstart.snapshot(Path(copy))
+        return {"samples": bench_output_start.measure(repeat)}
+
+
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer tolerances, smaller budgets")
@@ -131,10 +141,12 @@ def main(argv: list[str]) -> int:
         switching = bench_switching.measure(settings["repeats"])
         bench_switching.write_doc(bench_switching.render(switching, settings["repeats"]), out / "numerics.md")
 
-    coldstart = cartesian = None
+    coldstart = cartesian = with_output = None
     if not args.no_targets:
         log("== cold start: dyadc simulate in new processes (bench_coldstart.py)")
         coldstart = cold_start(3 if args.quick else 5)
+        log("== cold start writing a CSV, beside `import casadi, numpy` (bench_output_start.py)")
+        with_output = output_start(3 if args.quick else 7)
         log("== Cartesian chain N = 32 (bench_scale_cartesian.py)")
         import bench_scale_cartesian
         cartesian = list(bench_scale_cartesian.cartesian_rows(32, 2.0, 3, "tests"))[-1]
@@ -142,7 +154,7 @@ def main(argv: list[str]) -> int:
         log("== linearizing the excavator from the cache (its table goes into analysis.md)")
         import bench_linearize
         bench_linearize.main(["--repeats", "5" if args.quick else "15", "--doc", str(out / "analysis.md")])
-    targets = section(floor, compile_data, switching, coldstart, cartesian)
+    targets = section(floor, compile_data, switching, coldstart, cartesian, with_output)
 
     elapsed = time.perf_counter() - began
     (out / "benchmarks.md").write_text(report.render(info, runs, compile_data, pngs, settings, elapsed, floor,

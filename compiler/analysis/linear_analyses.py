@@ -15,11 +15,12 @@ Dyad's blocks do: the controller is the negated map from measurement to control 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Mapping
+from typing import Any, Callable, Mapping
 
-from compiler.analysis.expressions import number, substitute
+from compiler.analysis.expressions import AnalysisValues, substitute
 from compiler.analysis.transient import analysis_model, collect_analysis
 from compiler.errors import DyadError, Span, suggest_name
+from compiler.model.expressions import Lexical
 from compiler.model.library import Library, Resolved
 from compiler.syntax import ast
 
@@ -69,6 +70,7 @@ def read_linear(resolved: Resolved, library: Library, overrides: Mapping[str, fl
         raise DyadError(f"`{kind}` has no field `{unknown[0]}`", collected.spans.get(unknown[0])
                         or definition.span, hint=close or f"its fields: {', '.join(fields)}")
     scope = {name: value for name, value in values.items() if value is not None}
+    evaluated = AnalysisValues(definition.name, scope, Lexical(library, resolved.package, resolved.file))
     settings = {}
     for name, default in fields.items():
         where = collected.spans.get(name) or definition.span
@@ -79,7 +81,7 @@ def read_linear(resolved: Resolved, library: Library, overrides: Mapping[str, fl
             settings[name] = default
             continue
         settings[name] = _value(substitute(scope[name], scope), default, f"`{name}` of analysis "
-                                f"`{definition.name}`", where)
+                                f"`{definition.name}`", where, lambda what: evaluated.number(name, what, where))
     model, model_name = analysis_model(resolved, collected, scope)
     return LinearAnalysisRun(resolved.qualified_name, kind, model, model_name, settings,
                              definition.span, frozenset(collected.parameters), dict(collected.spans))
@@ -112,8 +114,9 @@ def check_names(run: LinearAnalysisRun, flat) -> None:
                             hint=f"its analysis points: {', '.join(sorted(known['points'])) or 'none'}")
 
 
-def _value(expr: Any, default: Any, what: str, span: Span | None) -> Any:
-    """A field's value, of the type of its default (names: a list of strings; a name: a string)."""
+def _value(expr: Any, default: Any, what: str, span: Span | None, number: Callable[[str], float]) -> Any:
+    """A field's value, of the type of its default (names: a list of strings; a name: a string);
+    `number(what)` evaluates a numeric field with the guarded evaluator."""
     if default is REQUIRED or isinstance(default, tuple):
         if isinstance(expr, ast.String) and default is REQUIRED:
             return expr.value
@@ -125,7 +128,7 @@ def _value(expr: Any, default: Any, what: str, span: Span | None) -> Any:
         if isinstance(expr, ast.Boolean):
             return expr.value
         raise DyadError(f"{what} must be true or false", getattr(expr, "span", None) or span)
-    value = number(expr, what, span)
+    value = number(what)
     if isinstance(default, int):
         if value != int(value) or value < 2:
             raise DyadError(f"{what} must be a whole number of at least 2", getattr(expr, "span", None) or span)

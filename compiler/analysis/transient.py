@@ -18,8 +18,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
-from compiler.analysis.expressions import number, substitute, text
+from compiler.analysis.expressions import AnalysisValues, substitute, text
 from compiler.errors import DyadError, Span, suggest_name
+from compiler.model.expressions import Lexical
 from compiler.model.library import Library, Resolved, parse_spec_file, qualify, split_file_spec
 from compiler.syntax import ast
 
@@ -109,6 +110,8 @@ def read_transient(resolved: Resolved, library: Library,
         raise DyadError(f"`{TRANSIENT}` has no field `{unknown[0]}`", collected.spans.get(unknown[0])
                         or definition.span, hint=suggest_name(unknown[0], sorted(FIELDS)))
     scope = {name: value for name, value in values.items() if value is not None}
+    evaluated = AnalysisValues(definition.name, scope,
+                               Lexical(library, resolved.package, resolved.file))
 
     def field_number(name: str, default: float | None) -> float:
         if name not in scope:
@@ -116,8 +119,8 @@ def read_transient(resolved: Resolved, library: Library,
                 raise DyadError(f"analysis `{definition.name}` gives no stop time", definition.span,
                                 hint=f"extends {TRANSIENT}(stop = 10)")
             return default
-        return number(substitute(scope[name], scope), f"`{name}` of analysis `{definition.name}`",
-                      collected.spans.get(name) or definition.span)
+        return evaluated.number(name, f"`{name}` of analysis `{definition.name}`",
+                                collected.spans.get(name) or definition.span)
 
     stop = field_number("stop", None)
     numbers = {name: field_number(name, default) for name, default in NUMERIC_FIELDS.items()}

@@ -141,7 +141,7 @@ def _linearize(compiled: LinearCompilation, request: Request, inputs: Sequence[s
     p = model.parameter_vector(overrides)
     point = initial_point(model, p)
     if request.at is not None:
-        point = point_of_run(model, p, _run(compiled, request.at, overrides), _switcher(compiled))
+        point = point_of_run(model, p, _run(compiled, request.at, overrides))
     if request.steady:
         point = steady_point(point)
     system = linearize_at(point, list(inputs), list(outputs), labels)
@@ -173,17 +173,8 @@ def _outputs(compiled: LinearCompilation, request: Request) -> tuple[list[str], 
 
 
 def _run(compiled: LinearCompilation, at: float, overrides: Mapping[str, float]):
-    """The run to the operating time (the runtime's one driver, with the state-set switcher)."""
-    from compiler import runtime
-    return runtime.simulate(compiled.compilation.model, float(at), points=2,
-                            params=dict(overrides) or None, switcher=_switcher(compiled))
-
-
-def _switcher(compiled: LinearCompilation):
-    compilation = compiled.compilation
-    model = compilation.model
-    if getattr(compilation, "dynamic", False) and not model.variants and model.universal is None:
-        from compiler.lower.state_set_variants import Switcher
-        return Switcher(compilation.flat, compilation.analysis, compilation.variant, model)
-    return None
+    """The run to the operating time, on the one run path (located errors; the runtime picks the
+    state-set switcher the model needs)."""
+    from compiler.compiled_runs import simulate_compiled
+    return simulate_compiled(compiled.compilation, float(at), points=2, params=dict(overrides) or None)
 

@@ -37,9 +37,34 @@ def summarize(flat: FlatSystem, verdict=None) -> str:
         lines.append(f"  warning: component {local.path} ({local.type}) is locally unbalanced: "
                      f"{local.equations} equations for {local.unknowns} unknowns, "
                      f"{local.provided} provided by its connectors and inputs")
-    for warning in flat.warnings:
+    for warning in flat.warnings + list(filter(None, [open_connector_warning(flat)])):
         lines.append(f"  warning: {warning}")
     return "\n".join(lines)
+
+
+_MAX_LISTED = 12
+
+
+def open_connector_warning(flat: FlatSystem) -> str | None:
+    """The connectors inside the model that nothing connects, whose flows are therefore zero
+    (a free end, or a forgotten `connect`: an open circuit runs with no current), by name with
+    their flow fields; None when there are none. The model's own open connectors are not listed
+    (they make it partial, see model_check)."""
+    top = {path for path, info in (flat.metadata.get("connectors") or {}).items() if info["owner"] == ""}
+    flows: dict[str, list[str]] = {}
+    for equation in flat.equations:
+        if equation.kind == "unconnected_flow" and equation.residual.is_Symbol:
+            connector, _, field = equation.residual.name.rpartition(".")
+            if connector and connector not in top:
+                flows.setdefault(connector, []).append(field)
+    if not flows:
+        return None
+    listed = [f"{name} ({', '.join(fields)})" for name, fields in list(flows.items())[:_MAX_LISTED]]
+    more = f" and {len(flows) - _MAX_LISTED} more" if len(flows) > _MAX_LISTED else ""
+    count = f"{len(flows)} connector{'s are' if len(flows) > 1 else ' is'}"
+    return (f"{count} connected to nothing, so {'their' if len(flows) > 1 else 'its'} flows are "
+            f"zero (a free end, or a missing connect: an open circuit carries no current): "
+            f"{', '.join(listed)}{more}")
 
 
 def format_flat(flat: FlatSystem) -> str:

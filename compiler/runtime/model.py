@@ -222,6 +222,12 @@ class CompiledModel:
             return user
         return np.asarray(self.params(user, mask), dtype=float).reshape(-1)
 
+    def named_parameters(self, vector) -> dict[str, float]:
+        """The model's own parameters by name with their values in `vector` (a run's): without the
+        internal ones the compiler adds (the event clock, relation locks; names `__...`)."""
+        return {name: float(value) for name, value in zip(self.parameter_names, vector)
+                if not name.startswith("__")}
+
     # -- names -------------------------------------------------------------------------------------
     def output_index(self, name: str) -> int:
         try:

@@ -44,13 +44,13 @@ def group_by_unit(names, units: Mapping[str, str] | None) -> dict[str, list[str]
     return groups
 
 
-def plot_signals(path: str | os.PathLike, time, columns: Mapping[str, np.ndarray],
+def plot_signals(path: str | os.PathLike | None, time, columns: Mapping[str, np.ndarray],
                  units: Mapping[str, str] | None, title: str):
     """Draw `columns` over `time`, one subplot per unit, and write the image to `path` atomically
-    (format from the extension). Returns the Figure."""
+    (format from the extension; no file when `path` is None). Returns the Figure."""
     from matplotlib.figure import Figure
 
-    image_format = plot_format(path)
+    image_format = None if path is None else plot_format(path)
     groups = group_by_unit(list(columns), units)
     rows = max(len(groups), 1)
     figure = Figure(figsize=(11, 1.2 + _SUBPLOT_HEIGHT * rows), layout="constrained")
@@ -67,7 +67,8 @@ def plot_signals(path: str | os.PathLike, time, columns: Mapping[str, np.ndarray
             ax.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     axes[-1].set_xlabel("time [s]")
     figure.suptitle(title)
-    atomic_write(path, lambda temp: figure.savefig(temp, format=image_format))
+    if path is not None:
+        atomic_write(path, lambda temp: figure.savefig(temp, format=image_format))
     return figure
 
 

@@ -10,7 +10,8 @@ from pathlib import Path
 from typing import Callable, Mapping, Sequence
 
 from compiler.errors import DyadError
-from compiler.runtime import CompiledModel, did_you_mean
+from compiler.runtime import CompiledModel, ModelInputError, did_you_mean
+from compiler.runtime.signal_patterns import expand_patterns
 from compiler.sweep.design import Design, as_design
 from compiler.sweep.engine import LostWorkers, require_dask, run_dask, run_serial
 from compiler.sweep.interrupt import DeferredInterrupt
@@ -114,18 +115,24 @@ def sweep(model, grid_or_samples, options: SweepOptions | Mapping, scheduler: st
                              "when it dies) and run the sweep again") from None
     bar.close()
     stats["compiled_models"] = prepared.compiled
-    return SweepResult(compiled.name, design, job, outcomes, complete=True, stats=stats)
+    return SweepResult(compiled.name, design, job, outcomes, complete=True, stats=stats,
+                       units=_units(compiled))
 
 
 def _keep_partial(compiled: CompiledModel, design: Design, job: Job, outcomes: dict,
                   options: SweepOptions) -> tuple[SweepResult, Path | None]:
     """The finished samples, written to options.partial_output when there are any."""
-    partial = SweepResult(compiled.name, design, job, outcomes, complete=False)
+    partial = SweepResult(compiled.name, design, job, outcomes, units=_units(compiled), complete=False)
     path = None
     if options.partial_output is not None and outcomes:
         path = Path(options.partial_output)
         partial.write(path)
     return partial, path
+
+
+def _units(compiled: CompiledModel) -> dict[str, str]:
+    """Declared units of the model's parameters and signals (the tables and plots label with them)."""
+    return dict(compiled.metadata.get("units") or {})
 
 
 def _ranges(samples: list[int]) -> str:
@@ -142,7 +149,12 @@ def _ranges(samples: list[int]) -> str:
 
 def _job(prepared: Prepared, options: SweepOptions) -> Job:
     model = prepared.model
-    variables = tuple(options.variables) if options.variables is not None else tuple(model.state_names)
+    variables = tuple(model.state_names)
+    if options.variables is not None:               # names, or patterns such as `body.*`
+        try:
+            variables = tuple(dict.fromkeys(expand_patterns(options.variables, model.output_names)))
+        except ModelInputError as err:
+            raise DyadError(str(err)) from None
     metrics: list[Metric] = parse_metrics(list(options.metrics))
     for (payload, _), case in zip(prepared.parts, prepared.cases):
         outputs = list(payload.data["output_names"])

@@ -1,6 +1,8 @@
-"""The summary picture of a sweep: a fan chart of each chosen signal over time (median, 25-75 % and
-5-95 % bands, the extremes dotted) and a scatter of each metric against each swept parameter.
-Drawn on a matplotlib.figure.Figure: pyplot and the process's backend are never touched."""
+"""The summary picture of a sweep: each chosen signal over time, for a grid one line per grid value
+(labelled with it), for random samples a fan chart (median, 25-75 % and 5-95 % bands, the
+extremes dotted); and a scatter of each metric against each swept parameter. Axes carry the
+declared units. Drawn on a matplotlib.figure.Figure: pyplot and the process's backend are never
+touched."""
 from __future__ import annotations
 
 import os
@@ -14,6 +16,7 @@ from compiler.sweep.writers import atomic_write
 
 MAX_SIGNALS = 3
 MAX_SCATTERS = 4
+MAX_LEGEND_LINES = 12     # a grid of more values gets a colour bar instead of a legend
 
 
 def summary_figure(result, signals: Sequence[str], metrics: Sequence[str]):
@@ -32,8 +35,9 @@ def summary_figure(result, signals: Sequence[str], metrics: Sequence[str]):
     grid = figure.add_gridspec(len(rows), columns)
     row = 0
     if "fan" in rows:
+        draw = _grid_lines if result.design.method == "grid" else _fan
         for k, name in enumerate(signals):
-            _fan(figure.add_subplot(grid[row, k]), result, name)
+            draw(figure.add_subplot(grid[row, k]), result, name)
         row += 1
     if "scatter" in rows:
         for k, (metric, parameter) in enumerate(pairs):
@@ -54,9 +58,37 @@ def _fan(ax, result, name: str) -> None:
         ax.plot(time, values.min(axis=0), color="tab:blue", lw=0.6, ls=":", label="min / max")
         ax.plot(time, values.max(axis=0), color="tab:blue", lw=0.6, ls=":")
         ax.legend(fontsize="x-small", loc="best")
+    _signal_axes(ax, result, name)
+
+
+def _grid_lines(ax, result, name: str) -> None:
+    """One line per grid value, coloured along the grid and labelled with its parameter values."""
+    time, values, samples = result.signal(name)
+    colors = _colormap()(np.linspace(0.0, 1.0, max(len(samples), 1)))
+    for row, sample, color in zip(values, samples, colors):
+        label = ", ".join(f"{n} = {v:g}" + _unit_suffix(result, n, " ")
+                          for n, v in result.parameter_values(sample).items())
+        ax.plot(time, row, color=color, lw=1.1, label=label)
+    if 0 < len(samples) <= MAX_LEGEND_LINES:
+        ax.legend(fontsize="x-small", loc="best")
+    _signal_axes(ax, result, name)
+
+
+def _colormap():
+    from matplotlib import colormaps
+    return colormaps["viridis"]
+
+
+def _signal_axes(ax, result, name: str) -> None:
     ax.set_title(name, fontsize="small")
     ax.set_xlabel("time [s]")
+    ax.set_ylabel(f"{name}{_unit_suffix(result, name)}", fontsize="small")
     ax.grid(True, alpha=0.3)
+
+
+def _unit_suffix(result, name: str, separator: str = " ") -> str:
+    unit = result.units.get(name)
+    return f"{separator}[{unit}]" if unit else ""
 
 
 def _scatter(ax, result, metric: str, parameter: str) -> None:
@@ -71,7 +103,7 @@ def _scatter(ax, result, metric: str, parameter: str) -> None:
         ax.scatter(x[~finite], np.full((~finite).sum(), bottom), marker="x", color="tab:red",
                    label="failed")
         ax.legend(fontsize="x-small", loc="best")
-    ax.set_xlabel(parameter)
+    ax.set_xlabel(f"{parameter}{_unit_suffix(result, parameter)}")
     ax.set_ylabel(metric)
     ax.grid(True, alpha=0.3)
 

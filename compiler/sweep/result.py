@@ -17,8 +17,9 @@ from compiler.sweep.writers import sibling, write_table
 
 class SweepResult:
     def __init__(self, model_name: str, design: Design, job: Job, outcomes: Mapping[int, Outcome],
-                 complete: bool = True, stats: dict | None = None):
+                 complete: bool = True, stats: dict | None = None, units: Mapping[str, str] | None = None):
         self.model_name = model_name
+        self.units = {"time": "s", **dict(units or {})}      # declared units of parameters and signals
         self.design = design
         self.job = job
         self.outcomes = dict(sorted(outcomes.items()))
@@ -116,7 +117,8 @@ class SweepResult:
 
     def write(self, path: str | os.PathLike) -> tuple[Path, Path]:
         """Trajectories to `path`, the sample table beside it (`NAME.samples.EXT`)."""
-        return write_table(self.trajectories(), path), write_table(self.samples(), sibling(path, "samples"))
+        return (write_table(self.trajectories(), path, self.units),
+                write_table(self.samples(), sibling(path, "samples"), self.units))
 
     def plot(self, path: str | os.PathLike, signals: Sequence[str] | None = None,
              metrics: Sequence[str] | None = None) -> Path:

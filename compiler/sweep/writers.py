@@ -28,7 +28,10 @@ def sibling(path: str | os.PathLike, tag: str) -> Path:
     return path.with_name(f"{path.stem}.{tag}{path.suffix}")
 
 
-def write_table(columns: Mapping[str, np.ndarray | list], path: str | os.PathLike) -> Path:
+def write_table(columns: Mapping[str, np.ndarray | list], path: str | os.PathLike,
+                units: Mapping[str, str] | None = None) -> Path:
+    """`units` (column -> unit) go into the Parquet field metadata (`unit`), as `dyadc simulate`'s
+    tables carry them; a CSV stays a plain table."""
     path = Path(path)
     if table_format(path) == "parquet":
         try:
@@ -38,7 +41,11 @@ def write_table(columns: Mapping[str, np.ndarray | list], path: str | os.PathLik
             raise DyadError("writing Parquet needs pyarrow, which is not installed",
                             hint="pip install 'dyadc[sweep]' (make install does), or write FILE.csv") \
                 from None
-        table = pa.table({name: _arrow_column(pa, values) for name, values in columns.items()})
+        units = {name: unit for name, unit in (units or {}).items() if unit}
+        arrays = [_arrow_column(pa, values) for values in columns.values()]
+        fields = [pa.field(name, array.type, metadata={"unit": units[name]} if name in units else None)
+                  for name, array in zip(columns, arrays)]
+        table = pa.Table.from_arrays(arrays, schema=pa.schema(fields))
         atomic_write(path, lambda tmp: pq.write_table(table, tmp))
     else:
         atomic_write(path, lambda tmp: _write_csv(columns, tmp))

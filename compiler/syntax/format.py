@@ -9,6 +9,18 @@ from compiler.syntax import ast
 
 INDENT = "  "
 
+
+class Line(str):
+    """A printed line and the span of the source node it prints (None: a keyword line such as
+    `relations` or `end`); compiler/syntax/format_comments.py puts the comments back by it."""
+    span = None
+
+
+def _at(text: str, span) -> Line:
+    line = Line(text)
+    line.span = span
+    return line
+
 # Binding strength, loosest first; a child printed below its required level gets parentheses.
 IF_LEVEL, OR_LEVEL, AND_LEVEL, COMPARE_LEVEL, RANGE_LEVEL, ADD_LEVEL, MUL_LEVEL, UNARY_LEVEL, \
     POWER_LEVEL, ATOM_LEVEL = range(10)
@@ -210,7 +222,7 @@ def _declaration(d, indent: str) -> list[str]:
         text = _typed(d)
     else:
         raise TypeError(f"not a declaration: {d!r}")
-    lines.append(indent + text + _suffix(d.condition, d.metadata, d.link))
+    lines.append(_at(indent + text + _suffix(d.condition, d.metadata, d.link), d.span))
     return lines
 
 
@@ -219,7 +231,7 @@ def _extends(e: ast.Extends, indent: str) -> list[str]:
     if e.modifications:
         text += f"({_modifications(e.modifications)})"
     text += _suffix(None, e.metadata, e.link)
-    return _doc_lines(e.doc, indent) + [indent + text]
+    return _doc_lines(e.doc, indent) + [_at(indent + text, e.span)]
 
 
 # -------------------------------------------------------------------------------- relations
@@ -227,12 +239,12 @@ def _extends(e: ast.Extends, indent: str) -> list[str]:
 def _relation(r, indent: str) -> list[str]:
     if isinstance(r, ast.Equation):
         keyword = "initial " if r.initial else ""
-        return _doc_lines(r.doc, indent) + [
+        return _doc_lines(r.doc, indent) + [_at(
             f"{indent}{keyword}{format_expr(r.lhs)} = {format_expr(r.rhs)}"
-            + _suffix(None, r.metadata, r.link)]
+            + _suffix(None, r.metadata, r.link), r.span)]
     if isinstance(r, ast.Guess):
-        return _doc_lines(r.doc, indent) + [
-            f"{indent}guess {format_expr(r.target)} = {format_expr(r.value)}"]
+        return _doc_lines(r.doc, indent) + [_at(
+            f"{indent}guess {format_expr(r.target)} = {format_expr(r.value)}", r.span)]
     if isinstance(r, (ast.Connect, ast.Continuity)):
         if isinstance(r, ast.Continuity):
             head = "continuity"
@@ -241,9 +253,10 @@ def _relation(r, indent: str) -> list[str]:
         else:
             head = "connect"
         text = f"{head}({', '.join(format_expr(x) for x in r.refs)})"
-        return _doc_lines(r.doc, indent) + [indent + text + _suffix(None, r.metadata, r.link)]
+        return _doc_lines(r.doc, indent) + [_at(indent + text + _suffix(None, r.metadata, r.link),
+                                                r.span)]
     if isinstance(r, ast.Switch):
-        lines = _doc_lines(r.doc, indent) + [f"{indent}switch {format_expr(r.subject)}"]
+        lines = _doc_lines(r.doc, indent) + [_at(f"{indent}switch {format_expr(r.subject)}", r.span)]
         for case in r.cases:
             lines.append(f"{indent}{INDENT}case {', '.join(case.names)}")
             lines += _relations(case.body, indent + INDENT * 2)
@@ -252,14 +265,15 @@ def _relation(r, indent: str) -> list[str]:
             lines += _relations(r.otherwise, indent + INDENT * 2)
         return lines + [f"{indent}end"]
     if isinstance(r, ast.ForLoop):
-        lines = _doc_lines(r.doc, indent) + [f"{indent}for {_iterators(r.iterators)}"]
+        lines = _doc_lines(r.doc, indent) + [_at(f"{indent}for {_iterators(r.iterators)}", r.span)]
         lines += _relations(r.body, indent + INDENT)
         return lines + [f"{indent}end"]
     if isinstance(r, ast.IfRelation):
         lines = _doc_lines(r.doc, indent)
         for index, branch in enumerate(r.branches):
             keyword = "if" if index == 0 else "elseif"
-            lines.append(f"{indent}{keyword} {format_expr(branch.condition)}")
+            header = f"{indent}{keyword} {format_expr(branch.condition)}"
+            lines.append(_at(header, r.span) if index == 0 else header)
             lines += _relations(branch.body, indent + INDENT)
         if r.otherwise:
             lines.append(f"{indent}else")
@@ -285,7 +299,7 @@ def _definition(d) -> list[str]:
         if getattr(d, "prefix", None):
             words.append(d.prefix)
         words.append("analysis" if isinstance(d, ast.AnalysisDef) else "component")
-        lines.append(f"{' '.join(words)} {d.name}")
+        lines.append(_at(f"{' '.join(words)} {d.name}", d.span))
         for e in d.extends:
             lines += _extends(e, INDENT)
         for decl in d.declarations:
@@ -297,28 +311,28 @@ def _definition(d) -> list[str]:
             lines.append(f"metadata {d.metadata}")
         lines.append("end")
     elif isinstance(d, ast.ConnectorDef):
-        lines.append(f"{'partial ' if d.partial else ''}connector {d.name}")
+        lines.append(_at(f"{'partial ' if d.partial else ''}connector {d.name}", d.span))
         for f in d.fields:
             lines += _doc_lines(f.doc, INDENT)
-            lines.append(f"{INDENT}{f.kind} {f.name}::{_type_spec(f.type)}"
-                         + _suffix(None, f.metadata, f.link))
+            lines.append(_at(f"{INDENT}{f.kind} {f.name}::{_type_spec(f.type)}"
+                             + _suffix(None, f.metadata, f.link), f.span))
         if d.metadata is not None:
             lines.append(f"metadata {d.metadata}")
         lines.append("end")
     elif isinstance(d, ast.SignalConnectorDef):
-        lines.append(f"connector {d.name} = {d.causality} {_type_spec(d.type)}"
-                     + _suffix(None, d.metadata, d.link))
+        lines.append(_at(f"connector {d.name} = {d.causality} {_type_spec(d.type)}"
+                         + _suffix(None, d.metadata, d.link), d.span))
     elif isinstance(d, ast.TypeDef):
-        lines.append(f"type {d.name} = {_type_spec(d.base)}")
+        lines.append(_at(f"type {d.name} = {_type_spec(d.base)}", d.span))
     elif isinstance(d, ast.EnumDef):
         members = [m + (f"({', '.join(_typed(f) for f in d.fields[i])})" if d.fields
                         and d.fields[i] else "") for i, m in enumerate(d.members)]
-        lines.append(f"enum {d.name} = {' | '.join(members)}")
+        lines.append(_at(f"enum {d.name} = {' | '.join(members)}", d.span))
     elif isinstance(d, ast.FunctionTypeDef):
         params = ", ".join(f"{p.name or ''}::{_type_spec(p.type)}" for p in d.params)
-        lines.append(f"type {d.name} = func({params})::{_type_spec(d.result)}")
+        lines.append(_at(f"type {d.name} = func({params})::{_type_spec(d.result)}", d.span))
     elif isinstance(d, ast.StructDef):
-        lines.append(f"struct {d.name}")
+        lines.append(_at(f"struct {d.name}", d.span))
         for f in d.fields:
             lines += _declaration(f, INDENT)
         lines.append("end")
@@ -327,11 +341,18 @@ def _definition(d) -> list[str]:
     return lines
 
 
-def format_file(file: ast.File) -> str:
+def format_blocks(file: ast.File) -> list[list[str]]:
+    """The printed file as blocks of lines (the `using` lines, then one block per definition),
+    which a blank line separates."""
     blocks = []
     if file.usings:
-        blocks.append("\n".join(
-            f"using {u.package}" + (f": {', '.join(u.names)}" if u.names else "")
-            for u in file.usings))
-    blocks += ["\n".join(_definition(d)) for d in file.definitions]
-    return "\n\n".join(blocks) + "\n"
+        blocks.append([_at(f"using {u.package}" + (f": {', '.join(u.names)}" if u.names else ""), u.span)
+                       for u in file.usings])
+    blocks += [_definition(d) for d in file.definitions]
+    return blocks
+
+
+def format_file(file: ast.File) -> str:
+    """The canonical text of `file`, without its comments (`format_comments.format_source` keeps
+    them)."""
+    return "\n\n".join("\n".join(block) for block in format_blocks(file)) + "\n"

@@ -89,15 +89,19 @@ def parse_source(text: str, filename: str = "<string>") -> ast.File:
     return result
 
 
-def parse_file(path) -> ast.File:
+def read_source(path) -> str:
+    """The text of a source file, or a DyadError saying why it cannot be read."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        return path.read_text(encoding="utf-8")
     except OSError as err:
         raise DyadError(f"cannot read `{path}`: {err.strerror}") from None
     except UnicodeDecodeError as err:
         raise DyadError(f"`{path}` is not UTF-8 text (byte {err.start})") from None
-    return parse_source(text, str(path))
+
+
+def parse_file(path) -> ast.File:
+    return parse_source(read_source(path), str(path))
 
 
 def parse_expression(text: str, filename: str = "<expr>") -> ast.Expr:

@@ -72,7 +72,8 @@ def test_each_extension_writes_its_format_with_the_same_numbers(oscillator, tmp_
         assert np.array_equal(npz["time"], t) and np.array_equal(npz["x"], x)
         assert npz["__units__"].tolist() == [["x", "m"], ["v", "m/s"]]
 
-    assert sorted(os.listdir(out)) == sorted(f"result{e}" for e in SUPPORTED_EXTENSIONS)   # no temporaries
+    # no temporaries; the CSV's metadata in its sidecar
+    assert sorted(os.listdir(out)) == sorted([f"result{e}" for e in SUPPORTED_EXTENSIONS] + ["result.csv.json"])
     for name in os.listdir(out):
         assert os.stat(out / name).st_mode & 0o777 == plain_mode()
 
@@ -117,7 +118,7 @@ def test_a_missing_optional_package_names_the_extra(tmp_path, monkeypatch):
 def test_a_failing_writer_leaves_neither_file_nor_temporary(tmp_path, monkeypatch):
     import compiler.runtime.writers as writers
 
-    def explode(temp, time, data, units):
+    def explode(temp, time, data, units, parameters):
         Path(temp).write_text("half")
         raise OSError("disk full")
     monkeypatch.setitem(writers._WRITERS, ".csv", explode)

@@ -44,8 +44,9 @@ def test_failed_csv_write_leaves_the_old_file_and_no_temporary(tmp_path, rc_resu
     from compiler.runtime import writers
     original = writers._WRITERS[".csv"]
 
-    def write_half_then_fail(temp, time, data, units):
-        original(temp, time[: len(time) // 2], {k: v[: len(time) // 2] for k, v in data.items()}, units)
+    def write_half_then_fail(temp, time, data, units, parameters):
+        original(temp, time[: len(time) // 2], {k: v[: len(time) // 2] for k, v in data.items()}, units,
+                 parameters)
         raise OSError("disk full (simulated)")
     monkeypatch.setitem(writers._WRITERS, ".csv", write_half_then_fail)
     with pytest.raises(OSError, match="disk full"):

@@ -10,7 +10,7 @@ from pathlib import Path
 import compiler.runtime
 
 RUNTIME = Path(compiler.runtime.__file__).parent
-OPTIONAL_OUTPUT_LIBRARIES = {"matplotlib", "pyarrow", "scipy"}     # imported inside writers/plots only
+OPTIONAL_OUTPUT_LIBRARIES = {"matplotlib", "pyarrow", "scipy", "pandas"}     # imported inside writers/plots/to_pandas only
 
 
 def imports(path: Path):

@@ -64,7 +64,7 @@ def test_structural_final_unknown_and_unused_parameters_are_refused_by_name(deca
     assert "`n` is a structural parameter" in text
     assert "`f` is final and cannot be changed" in text
     assert "`kk` is not a parameter of Decay (did you mean 'k'?)" in text
-    assert "Decay.dyad:8:3: note: `n` is declared here" in text      # its declaration (with its docstring)
+    assert "Decay.dyad:9:3: note: `n` is declared here" in text      # its declaration, not its docstring
 
 
 def test_fixed_overrides_apply_to_every_sample_and_are_checked(decay):
