@@ -94,3 +94,30 @@ def _connection_index(equations: list[Equation], out: str, inp: str) -> int | No
         if equation.kind == "connect" and sympy.expand(equation.residual + target) == 0:
             return i
     return None
+
+
+def check_not_differentiated(flat: FlatSystem, analysis, inputs: list[str]) -> None:
+    """An input that some derivative depends on (a differentiated variable set by it, or an
+    equation with it that the index reduction differentiated) would need its own time derivative,
+    which a parameter does not have (it is held constant): refuse, located, rather than give a
+    linear model without those terms."""
+    wanted = {symbol(name) for name in inputs}
+    differentiated = set(flat.derivatives.values())
+    for name, expression in analysis.alias.eliminated.items():
+        used = sorted(s.name for s in sympy.sympify(expression).free_symbols & wanted)
+        if used and name in differentiated:
+            raise _differentiated(flat, used[0], f"`{name}` follows it and is differentiated",
+                                  flat.variable(name).origin.span)
+    system = analysis.system
+    for i, equation in enumerate(system.equations):
+        used = sorted(s.name for s in equation.free_symbols & wanted)
+        if used and system.eq_to_diff[i] >= 0:
+            raise _differentiated(flat, used[0], "the index reduction differentiates an equation with it",
+                                  getattr(system.origins[i], "span", None))
+
+
+def _differentiated(flat: FlatSystem, name: str, why: str, span) -> DyadError:
+    return DyadError(f"input `{name}` of `{flat.name}` would need its time derivative ({why}): dyadc "
+                     f"holds inputs constant and cannot linearize from it", span,
+                     hint="drive it through a filter or an integrator of its own (a state), or "
+                          "linearize from another input")
