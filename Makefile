@@ -15,15 +15,18 @@ $(STAMP): pyproject.toml setup.py
 	touch $(STAMP)
 
 run: install
-	$(BIN)/python -c "from compiler.render.scene_outputs import main_scene_outputs; raise SystemExit(main_scene_outputs('out'))"
+	$(BIN)/python -c "from compiler.render.scene_outputs import write_scene_outputs; print(*write_scene_outputs('out'), sep='\n')"
 
 test: install
 	$(BIN)/python -m pytest -n 2 tests
 
-# The fuzz tests of `make test` with far more examples each (docs/security.md, "Fuzzing").
+# The fuzz tests of `make test` with far more examples each (docs/security.md, "Fuzzing"), and the
+# metamorphic tests with METAMORPHIC_EXAMPLES rewritten formulations of every model (docs/testing.md).
 FUZZ_EXAMPLES ?= 2000
+METAMORPHIC_EXAMPLES ?= 20
 fuzz: install
 	DYADC_FUZZ_EXAMPLES=$(FUZZ_EXAMPLES) $(BIN)/python -m pytest -n 2 -p no:cacheprovider tests/fuzz
+	DYADC_METAMORPHIC_EXAMPLES=$(METAMORPHIC_EXAMPLES) $(BIN)/python -m pytest -n 2 -p no:cacheprovider tests/metamorphic
 
 bench: install
 	$(BIN)/python benchmarks/run_all.py

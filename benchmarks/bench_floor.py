@@ -45,7 +45,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 import casadi as ca  # noqa: E402
 
 from compiler import runtime  # noqa: E402
-from compiler.runtime import driver, integrator, outputs, run_state, watches  # noqa: E402
+from compiler.runtime import casadi_idas, driver, outputs, run_state, sampled_idas, stops, watches  # noqa: E402
 from compiler.runtime.segments import with_clock  # noqa: E402
 from compiler.runtime.idas import integrator_options  # noqa: E402
 from compiler.runtime.watches import time_breakpoints  # noqa: E402
@@ -144,13 +144,13 @@ class PhaseClock:
 
     @contextlib.contextmanager
     def patched(self):
-        targets = [(integrator.IdasIntegrator, "run", "IDAS"), (integrator.IdasIntegrator, "run_to", "IDAS"),
+        targets = [(casadi_idas.IdasIntegrator, "run", "IDAS"), (casadi_idas.IdasIntegrator, "run_to", "IDAS"),
                    (ca, "integrator", "integrator construction"),
                    (driver, "consistent_initialization", "initialization"),
                    (driver, "restart_point", "initialization"),
-                   (watches.Watch, "values", "checks"), (driver, "build_watch", "checks"),
-                   (driver, "check_divergence", "checks")]
-        for module in (driver, run_state, outputs):
+                   (watches.Watch, "values", "checks"), (run_state, "build_watch", "checks"),
+                   (sampled_idas, "check_divergence", "checks")]
+        for module in (driver, run_state, stops, outputs):
             targets += [(module, name, "outputs") for name in ("polish_algebraics", "evaluate_outputs", "signals_at")
                         if hasattr(module, name)]
         saved = [(owner, name, getattr(owner, name)) for owner, name, _ in targets if hasattr(owner, name)]

@@ -61,7 +61,7 @@ def cartesian_row(n: int, stop: float, source: str = "tests", profile: str | Non
     PROFILE.simulate.txt)."""
     import warnings
     from compiler import api
-    from compiler.lower.state_set_enumeration import VariantLimitWarning
+    from compiler.lower.state_set_variants import VariantLimitWarning
     warnings.simplefilter("ignore", VariantLimitWarning)
     load = os.getloadavg()
     with tempfile.TemporaryDirectory(prefix="dyadc-scale-") as tmp:

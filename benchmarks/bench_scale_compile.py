@@ -21,7 +21,7 @@ PASSES = [
     ("compiler.structure.reduce", "select_states", "dummy derivatives"),
     ("compiler.structure.reduce", "causalize", "causalize+tearing"),
     ("compiler.structure.reduce", "build_initial_problem", "initialization"),
-    ("compiler.lower.state_set_variants", "monitored_levels", "state-set check"),
+    ("compiler.structure.state_selection.monitored", "monitored_levels", "state-set check"),
     ("compiler.lower.to_casadi", "lower", "lower"),
 ]
 COLUMNS = ["parse", "flatten", "checks", "alias", "derivative rank", "Pantelides", "index reduction",

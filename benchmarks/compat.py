@@ -32,6 +32,10 @@ import compat_corpus as corpus_scan          # noqa: E402  (benchmarks/ is not a
 from compat_report import markdown           # noqa: E402
 
 TIMEOUTS = {"parse": 60.0, "check": 120.0, "run": 240.0}
+# Unit mismatches of published code are reported in their own column (issue 26), not counted
+# against the check and simulate rates: every model command runs with the check as warnings.
+UNITS = ["--units", "warn"]
+_LOCATED_WARNING = re.compile(r"^(?P<file>\S+?\.dyad):(?P<line>\d+):(?P<column>\d+): warning: (?P<message>.+)$")
 DEFAULT_TOLERANCE = 1e-3
 
 
@@ -71,6 +75,7 @@ def first_error(rc: int | None, out: str, err: str, timeout: float) -> str:
 class Runner:
     def __init__(self, libraries: list, workdir: Path):
         self.command = dyadc_command()
+        self.libraries = libraries
         self.workdir = workdir
         self.libdir = workdir / "lib"
         self.libdir.mkdir()
@@ -87,7 +92,28 @@ class Runner:
         return rc, out, err, first_error(rc, out, err, timeout)
 
     def lib_args(self) -> list[str]:
-        return ["-L", str(self.libdir)]
+        return ["-L", str(self.libdir), *UNITS]
+
+    def unit_findings(self, err: str) -> list[dict]:
+        """The located warnings of `--units warn` in `err`, each at its place in the corpus
+        (`Repository/dyad/File.dyad:LINE`) or in dyadc's shipped library (`dyadc:...`)."""
+        found = []
+        for line in err.splitlines():
+            match = _LOCATED_WARNING.match(line.strip())
+            if match:
+                found.append({"place": f"{self.published_path(match['file'])}:{match['line']}",
+                              "message": match["message"]})
+        return found
+
+    def published_path(self, path: str) -> str:
+        resolved = Path(path).resolve()
+        for lib in self.libraries:
+            sources = lib.sources.resolve()
+            if resolved.is_relative_to(sources):
+                return f"{lib.root.name}/{lib.sources.relative_to(lib.root) / resolved.relative_to(sources)}" \
+                    if lib.sources != lib.root else f"{lib.root.name}/{resolved.relative_to(sources)}"
+        marker = "/components/"
+        return f"dyadc:components/{path.split(marker, 1)[1]}" if marker in path else path
 
     # ---------------------------------------------------------------------------- per file
 
@@ -115,7 +141,8 @@ class Runner:
         entry = {"name": d.name, "kind": f"{d.prefix} {d.kind}".strip()}
         if not parsed:
             return {**entry, "verdict": "fail", "reason": "the file does not parse"}
-        rc, out, _err, error = self.dyadc(["check", f"{path}:{d.name}", *self.lib_args()], "check")
+        rc, out, err, error = self.dyadc(["check", f"{path}:{d.name}", *self.lib_args()], "check")
+        entry["unit_findings"] = self.unit_findings(err)
         if rc != 0:
             return {**entry, "verdict": "fail", "reason": error}
         status = {line.strip().split(":", 1)[0] for line in out.splitlines()}

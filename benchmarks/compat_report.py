@@ -117,6 +117,7 @@ def totals(results: list[dict]) -> dict[str, tuple[int, int]]:
         "external": (sum(c["verdict"] == "external" for c in components), len(components)),
         "julia_objects": (sum(bool(c.get("julia_objects")) for c in components), len(components)),
         "explained": (len(explained(results)), len(components)),
+        "unit_findings": (sum(bool(c.get("unit_findings")) for c in components), len(components)),
         "checked_or_explained": (sum(c["verdict"] != "fail" for c in components)
                                  + len(explained(results)), len(components)),
         "simulated": (sum(run["simulated"] for run in runs), len(runs)),
@@ -136,6 +137,32 @@ def totals(results: list[dict]) -> dict[str, tuple[int, int]]:
                             else bool(run["simulated"]) for r in results for run in r["runs"] if r["parsed"]),
                         len(runs)),
     }
+
+
+def unit_findings(results: list[dict]) -> list[dict]:
+    """One entry per published place and message of the unit check's warnings, with the
+    components whose check reported it."""
+    merged: dict[tuple[str, str], dict] = {}
+    for result in results:
+        for component in result["components"]:
+            for finding in component.get("unit_findings", ()):
+                entry = merged.setdefault((finding["place"], finding["message"]),
+                                          {**finding, "components": []})
+                if component["name"] not in entry["components"]:
+                    entry["components"].append(component["name"])
+    return sorted(merged.values(), key=lambda e: (e["place"], e["message"]))
+
+
+def unit_section(results: list[dict]) -> list[str]:
+    lines = ["", "## Unit findings (`--units warn`)", "",
+             "Every command ran with `--units warn` (issue 26): a published component whose units do "
+             "not match still counts as checked and simulated; its mismatches are listed here, at "
+             "the published line (docs/language.md, Units).", "",
+             "| place | unit finding | components whose check reports it |", "| --- | --- | --- |"]
+    for entry in unit_findings(results):
+        names = ", ".join(entry["components"][:6]) + (" ..." if len(entry["components"]) > 6 else "")
+        lines.append(f"| {entry['place']} | {entry['message'].replace('|', chr(92) + '|')} | {names} |")
+    return lines
 
 
 def _pct(done: int, total: int) -> str:
@@ -232,6 +259,8 @@ def markdown(results: list[dict], libraries: list, command: str, seconds: float,
         _row("  of which calling Julia objects kept opaque (cannot run)", count["julia_objects"], None),
         _row("components not checked, explained by an error in the published source",
              count["explained"], None),
+        _row("components with unit findings (`--units warn`; not counted against the rates)",
+             count["unit_findings"], None),
         _row("components checked or explained", count["checked_or_explained"], None),
         _row("runs simulated (test cases and analyses)", count["simulated"], TARGETS["simulated"]),
         _row("runs not simulated, explained by an error in the published component",
@@ -248,14 +277,16 @@ def markdown(results: list[dict], libraries: list, command: str, seconds: float,
         "",
         "## Per library",
         "",
-        "| package | files parsed | components checked | runs simulated | test values matched |",
-        "| --- | --- | --- | --- | --- |",
+        "| package | files parsed | components checked | runs simulated | test values matched "
+        "| components with unit findings |",
+        "| --- | --- | --- | --- | --- | --- |",
     ]
     for lib in libraries:
         sub = totals([r for r in results if r["library"] == lib.package])
         cells = [f"{d} / {t}" for d, t in (sub["parsed"], sub["checked"], sub["simulated"],
-                                           sub["matched"])]
+                                           sub["matched"], sub["unit_findings"])]
         lines.append(f"| {lib.package} | " + " | ".join(cells) + " |")
+    lines += unit_section(results)
     lines += ["", "## Components whose published source is inconsistent (explained)", "",
               "Reviewed by hand against dyadc's diagnosis; the culprit is in our words.", "",
               "| component | file | culprit | dyadc's first error line (normalised) |",
@@ -292,14 +323,15 @@ def markdown(results: list[dict], libraries: list, command: str, seconds: float,
                          f"{e['example']} |")
         lines.append("")
     lines += ["## Per file", "",
-              "| file | parsed | components checked | runs simulated | values matched |",
-              "| --- | --- | --- | --- | --- |"]
+              "| file | parsed | components checked | runs simulated | values matched | unit findings |",
+              "| --- | --- | --- | --- | --- | --- |"]
     for r in results:
         tests = [run for run in r["runs"] if run["kind"] == "test"]
         comps = r["components"]
+        places = {f["place"] for c in comps for f in c.get("unit_findings", ())}
         lines.append(
             f"| {r['file']} | {'yes' if r['parsed'] else 'no'} | "
             f"{sum(c['verdict'] != 'fail' for c in comps)} / {len(comps)} | "
             f"{sum(run['simulated'] for run in r['runs'])} / {len(r['runs'])} | "
-            f"{sum(bool(run['matched']) for run in tests)} / {len(tests)} |")
+            f"{sum(bool(run['matched']) for run in tests)} / {len(tests)} | {len(places)} |")
     return "\n".join(lines) + "\n"

@@ -76,6 +76,8 @@ def main(argv: list[str]) -> int:
                                                                 "matched-tip-error comparison")
     parser.add_argument("--no-targets", action="store_true", help="skip the cold-start and Cartesian-chain "
                                                                   "measurements of the issue-15 targets")
+    parser.add_argument("--no-linear", action="store_true",
+                        help="skip linearizing the excavator from the cache (bench_linearize.py, docs/analysis.md)")
     parser.add_argument("--out", default=str(ROOT / "docs"), help="folder for benchmarks.md (PNGs go to <out>/benchmarks/)")
     args = parser.parse_args(argv)
     os.environ.setdefault("OMP_NUM_THREADS", "1")      # scipy/numpy threads would steal the other core
@@ -148,6 +150,10 @@ def main(argv: list[str]) -> int:
         log("== Cartesian chain N = 32 (bench_scale_cartesian.py)")
         import bench_scale_cartesian
         cartesian = list(bench_scale_cartesian.cartesian_rows(32, 2.0, 3, "tests"))[-1]
+    if not args.no_linear:
+        log("== linearizing the excavator from the cache (its table goes into analysis.md)")
+        import bench_linearize
+        bench_linearize.main(["--repeats", "5" if args.quick else "15", "--doc", str(out / "analysis.md")])
     targets = section(floor, compile_data, switching, coldstart, cartesian, with_output)
 
     elapsed = time.perf_counter() - began

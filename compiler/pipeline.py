@@ -55,9 +55,9 @@ def flatten_spec(spec: str, lib_dirs: Sequence[str] = (), *,
 
 @fewer_collections()
 def compile_flat(flat: FlatSystem, timings: dict[str, float] | None = None) -> Compilation:
-    from compiler.lower.state_set_enumeration import with_variants
+    from compiler.lower.state_set_variants import build_variant, with_variants
     from compiler.lower.universal_variant import with_universal
-    from compiler.lower.state_set_variants import build_variant, monitored_levels
+    from compiler.structure.state_selection.monitored import monitored_levels
     from compiler.lower.to_casadi import lower
     from compiler.model.model_check import require_standalone
     from compiler.structure.reduce import StructureReport, analyse, reduce
@@ -113,7 +113,7 @@ def compile_or_load(spec: str, lib_dirs: Sequence[str] = (), *,
     except (OSError, CacheError) as err:
         warnings.warn(f"compilation cache not used: {err}", CacheWarning, stacklevel=2)
         return compile_spec(spec, lib_dirs, library=_library(lib_dirs))
-    if found is not None:
+    if found is not None and _units_reported(found):
         return found
     from compiler.cache import library_trees, parsed
     from compiler.cache.recording import RecordingLibrary
@@ -133,6 +133,19 @@ def compile_or_load(spec: str, lib_dirs: Sequence[str] = (), *,
         warnings.warn(f"compilation cache not written: {err}", CacheWarning, stacklevel=2)
     compilation.timings["cache write"] = time.perf_counter() - began
     return compilation
+
+
+def _units_reported(found: CachedCompilation) -> bool:
+    """Report the unit findings kept with a cached compilation as the current --units says;
+    False when it was compiled with the check off and the check is now on (compile again)."""
+    if found.unit_findings is None:
+        from compiler.units.mode import current_mode
+        return current_mode() == "off"
+    if found.unit_findings:                 # a clean model imports nothing of compiler.units here
+        from compiler.units.findings import Finding
+        from compiler.units.mode import report
+        report([Finding.from_dict(data) for data in found.unit_findings])
+    return True
 
 
 def start_notes(compilation: Compilation | CachedCompilation) -> list[str]:

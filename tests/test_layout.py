@@ -8,10 +8,9 @@ from pathlib import Path
 import compiler
 
 PACKAGE = Path(compiler.__file__).resolve().parent
-STAGES = {"syntax", "julia", "model", "structure", "lower", "runtime", "testing", "render", "sweep", "components",
-          "analysis", "cache", "linear"}
-ON_TOP = {"__init__", "__main__", "api", "cli", "cli_options", "cli_outputs", "cli_simulate", "cli_source",
-          "cli_studies", "errors", "inspect_report", "pipeline", "simulate"}
+STAGES = {"syntax", "julia", "model", "units", "structure", "lower", "runtime", "testing", "render", "sweep",
+          "components", "analysis", "cache", "linear", "cli"}
+ON_TOP = {"__init__", "__main__", "api", "compiled_runs", "errors", "pipeline", "simulate"}
 
 
 def module_name(path: Path) -> str:

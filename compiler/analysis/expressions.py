@@ -1,22 +1,19 @@
 """Expressions of an analysis block: its parameters substituted into the model's modifiers, and
-the numeric value of a field (`stop = 10`, `reltol = 1m`, `stop = 2 * T`)."""
+the numeric value of a field (`stop = 10`, `reltol = 1m`, `stop = 2 * T`).
+
+A field is evaluated by the model's evaluator (compiler/model/expressions.py) with its built-ins,
+constants and guards (a power too large to fold, an array too large to build): the analysis is
+the scope's node, whose members are its fields and parameters, each evaluated on first use."""
 from __future__ import annotations
 
 import dataclasses
-import math
 from typing import Any, Mapping
 
-from compiler.errors import DyadError, Span
-from compiler.syntax import ast
+import sympy
 
-_CONSTANTS = {"pi": math.pi, "π": math.pi, "e": math.e, "Inf": math.inf, "inf": math.inf}
-_FUNCTIONS = {"sqrt": math.sqrt, "exp": math.exp, "log": math.log, "log10": math.log10,
-              "sin": math.sin, "cos": math.cos, "tan": math.tan, "abs": abs,
-              "min": min, "max": max}
-_BINARY = {"+": lambda a, b: a + b, "-": lambda a, b: a - b, "*": lambda a, b: a * b,
-           "/": lambda a, b: a / b, "^": lambda a, b: a ** b, ".+": lambda a, b: a + b,
-           ".-": lambda a, b: a - b, ".*": lambda a, b: a * b, "./": lambda a, b: a / b,
-           ".^": lambda a, b: a ** b}
+from compiler.errors import DyadError, Span
+from compiler.model.expressions import NOT_FOUND, EvalScope, Lexical, Mode, evaluate, is_array
+from compiler.syntax import ast
 
 
 def substitute(expr: Any, names: Mapping[str, Any], depth: int = 0) -> Any:
@@ -39,12 +36,54 @@ def substitute(expr: Any, names: Mapping[str, Any], depth: int = 0) -> Any:
     return expr
 
 
-def number(expr: Any, what: str, span: Span | None) -> float:
-    """The value of a numeric field of an analysis, or a located error."""
-    value = _evaluate(expr, what, span)
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        raise DyadError(f"{what} must be a number", getattr(expr, "span", None) or span)
-    return float(value)
+class AnalysisValues:
+    """The fields and parameters of one analysis (expressions by name), evaluated on demand."""
+
+    def __init__(self, name: str, expressions: Mapping[str, Any], lexical: Lexical):
+        self.path = f"analysis `{name}`"
+        self._expressions = dict(expressions)
+        self._values: dict[str, Any] = {}
+        self._evaluating: set[str] = set()
+        self._scope = EvalScope(self, lexical, _NoUnknowns())
+
+    def member(self, name: str, mode: Mode, span: Span | None) -> Any:
+        """The value of field or parameter `name` (the evaluator's node protocol)."""
+        if name not in self._expressions:
+            return NOT_FOUND
+        if name not in self._values:
+            if name in self._evaluating:
+                raise DyadError("analysis parameters refer to each other in a cycle", span)
+            self._evaluating.add(name)
+            try:
+                self._values[name] = evaluate(self._expressions[name], self._scope, Mode.NUMERIC)
+            finally:
+                self._evaluating.discard(name)
+        return self._values[name]
+
+    def member_names(self) -> list[str]:
+        return sorted(self._expressions)
+
+    def number(self, name: str, what: str, span: Span | None) -> float:
+        """The value of numeric field `name`, or a located error."""
+        expr = self._expressions[name]
+        value = self.member(name, Mode.NUMERIC, getattr(expr, "span", None) or span)
+        where = getattr(expr, "span", None) or span
+        if isinstance(value, str) or is_array(value) or not isinstance(value, sympy.Expr) \
+                or not value.is_number:
+            raise DyadError(f"{what} must be a number", where)
+        if not value.is_extended_real:
+            raise DyadError(f"{what} must be a real number, got {value}", where)
+        return float(value)
+
+
+class _NoUnknowns:
+    """An analysis has no unknowns: nothing in it has a time derivative."""
+
+    def is_unknown(self, name: str) -> bool:
+        return False
+
+    def note_derivative(self, name: str) -> None:
+        raise AssertionError("an analysis field has no derivative")
 
 
 def text(expr: Any) -> str:
@@ -56,35 +95,3 @@ def text(expr: Any) -> str:
     if isinstance(expr, ast.Ref):
         return expr.dotted
     return type(expr).__name__
-
-
-def _evaluate(expr: Any, what: str, span: Span | None) -> Any:
-    where = getattr(expr, "span", None) or span
-    if isinstance(expr, ast.Number):
-        return expr.value
-    if isinstance(expr, ast.Boolean):
-        return expr.value
-    if isinstance(expr, ast.String):
-        return expr.value
-    if isinstance(expr, ast.Ref) and len(expr.parts) == 1 and expr.parts[0].name in _CONSTANTS:
-        return _CONSTANTS[expr.parts[0].name]
-    if isinstance(expr, ast.UnaryOp) and expr.op in ("-", "+"):
-        value = _evaluate(expr.operand, what, span)
-        return -value if expr.op == "-" else value
-    if isinstance(expr, ast.BinaryOp) and expr.op in _BINARY:
-        left, right = _evaluate(expr.left, what, span), _evaluate(expr.right, what, span)
-        try:
-            return _BINARY[expr.op](left, right)
-        except (ArithmeticError, TypeError) as err:
-            raise DyadError(f"{what}: cannot evaluate ({err})", where) from None
-    if isinstance(expr, ast.Call) and expr.function in _FUNCTIONS and not expr.kwargs:
-        args = [_evaluate(a, what, span) for a in expr.args]
-        try:
-            return _FUNCTIONS[expr.function](*args)
-        except (ArithmeticError, TypeError, ValueError) as err:
-            raise DyadError(f"{what}: cannot evaluate ({err})", where) from None
-    if isinstance(expr, ast.Ref):
-        raise DyadError(f"{what}: unknown name `{expr.dotted}`", where,
-                        hint="an analysis field may use numbers and the analysis's parameters")
-    raise DyadError(f"{what}: dyadc cannot evaluate this expression here", where,
-                    hint="write a number, or an arithmetic expression of the analysis's parameters")

@@ -18,8 +18,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any, Mapping
 
-from compiler.analysis.expressions import number, substitute, text
+from compiler.analysis.expressions import AnalysisValues, substitute, text
 from compiler.errors import DyadError, Span, suggest_name
+from compiler.model.expressions import Lexical
 from compiler.model.library import Library, Resolved, parse_spec_file, qualify, split_file_spec
 from compiler.syntax import ast
 
@@ -49,7 +50,7 @@ class TransientRun:
 
 
 @dataclass
-class _Collected:
+class CollectedAnalysis:
     """What the chain of analyses says, most derived last: field and parameter expressions by
     name, the model declaration, and the kind at the root of the chain."""
     values: dict[str, Any] = field(default_factory=dict)
@@ -57,6 +58,7 @@ class _Collected:
     parameters: set[str] = field(default_factory=set)
     model: Any = None
     kind: str = ""
+    root: str = ""                      # the kind at the root of the chain (LinearAnalysis, ...)
 
 
 def find_analysis(spec: str, library: Library) -> Resolved:
@@ -91,7 +93,7 @@ def read_transient(resolved: Resolved, library: Library,
     if definition.partial:
         raise DyadError(f"analysis `{definition.name}` is partial: it is a base for other "
                         f"analyses, not a run", definition.span)
-    collected = _collect(resolved, library, ())
+    collected = collect_analysis(resolved, library, ())
     if collected.kind != TRANSIENT:
         raise DyadError(f"analysis `{definition.name}` is a `{collected.kind}`: dyadc runs "
                         f"`{TRANSIENT}` analyses only (and analyses that extend one)",
@@ -108,6 +110,8 @@ def read_transient(resolved: Resolved, library: Library,
         raise DyadError(f"`{TRANSIENT}` has no field `{unknown[0]}`", collected.spans.get(unknown[0])
                         or definition.span, hint=suggest_name(unknown[0], sorted(FIELDS)))
     scope = {name: value for name, value in values.items() if value is not None}
+    evaluated = AnalysisValues(definition.name, scope,
+                               Lexical(library, resolved.package, resolved.file))
 
     def field_number(name: str, default: float | None) -> float:
         if name not in scope:
@@ -115,13 +119,13 @@ def read_transient(resolved: Resolved, library: Library,
                 raise DyadError(f"analysis `{definition.name}` gives no stop time", definition.span,
                                 hint=f"extends {TRANSIENT}(stop = 10)")
             return default
-        return number(substitute(scope[name], scope), f"`{name}` of analysis `{definition.name}`",
-                      collected.spans.get(name) or definition.span)
+        return evaluated.number(name, f"`{name}` of analysis `{definition.name}`",
+                                collected.spans.get(name) or definition.span)
 
     stop = field_number("stop", None)
     numbers = {name: field_number(name, default) for name, default in NUMERIC_FIELDS.items()}
     _check_numbers(definition, stop, numbers, collected.spans)
-    model, model_name = _model(resolved, collected, scope)
+    model, model_name = analysis_model(resolved, collected, scope)
     notes = []
     if "alg" in scope and text(scope["alg"]).lower() not in ("auto", "odealg.auto()"):
         notes.append(f"alg = {text(scope['alg'])} is ignored: dyadc integrates with IDAS "
@@ -133,7 +137,7 @@ def read_transient(resolved: Resolved, library: Library,
                         tuple(notes), definition.span, frozenset(collected.parameters))
 
 
-def _collect(resolved: Resolved, library: Library, seen: tuple[str, ...]) -> _Collected:
+def collect_analysis(resolved: Resolved, library: Library, seen: tuple[str, ...]) -> CollectedAnalysis:
     definition: ast.AnalysisDef = resolved.definition
     if len(definition.extends) != 1:
         raise DyadError(f"analysis `{definition.name}` must extend exactly one analysis, e.g. "
@@ -141,14 +145,14 @@ def _collect(resolved: Resolved, library: Library, seen: tuple[str, ...]) -> _Co
     (base,) = definition.extends
     base_name = base.type_name.rsplit(".", 1)[-1]
     if base.type_name in (TRANSIENT, f"Dyad.{TRANSIENT}"):
-        collected = _Collected(kind=TRANSIENT)
+        collected = CollectedAnalysis(kind=TRANSIENT)
     else:
         found = library.lookup(base.type_name, resolved.package, resolved.file)
         if found is None or not isinstance(found.definition, ast.AnalysisDef) \
                 or found.qualified_name in seen:
-            collected = _Collected(kind=base_name)     # Dyad's own, or a cycle: not ours to run
+            collected = CollectedAnalysis(kind=base_name, root=base_name)  # Dyad's own, or a cycle
         else:
-            collected = _collect(found, library, seen + (resolved.qualified_name,))
+            collected = collect_analysis(found, library, seen + (resolved.qualified_name,))
             if collected.kind != TRANSIENT:
                 collected.kind = base_name             # name the kind the user wrote
     for mod in base.modifications:
@@ -164,7 +168,7 @@ def _collect(resolved: Resolved, library: Library, seen: tuple[str, ...]) -> _Co
     return collected
 
 
-def _model(resolved: Resolved, collected: _Collected, scope: dict[str, Any]) -> tuple[Resolved, str]:
+def analysis_model(resolved: Resolved, collected: CollectedAnalysis, scope: dict[str, Any]) -> tuple[Resolved, str]:
     """A component `extends Model(modifiers)` in the analysis's file: the model the run flattens."""
     definition = resolved.definition
     decl = collected.model

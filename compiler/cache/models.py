@@ -47,6 +47,7 @@ class CachedCompilation:
     declarations: dict[str, Span]                   # variable name -> where it is declared
     notes: list[str]                                # what `dyadc simulate` prints before the run
     timings: dict[str, float] = field(default_factory=dict)
+    unit_findings: list | None = None               # compiler.units findings (dicts); None: not checked
 
     dynamic = False                                 # state-set-switching models are not cached
 
@@ -90,15 +91,15 @@ def load(spec: str, lib_dirs: Sequence[str] = ()) -> CachedCompilation | None:
     found = read_entry(key, folder)
     if found is None:
         return None
-    model, needs_values, declarations, notes = found
+    model, needs_values, declarations, notes, unit_findings = found
     _touch(folder / f"{key}{ENTRY_SUFFIX}")
     return CachedCompilation(model, spec, tuple(lib_dirs), key, needs_values, declarations, notes,
-                             {"cache": time.perf_counter() - began})
+                             {"cache": time.perf_counter() - began}, unit_findings)
 
 
-def read_entry(key: str, folder: Path | None = None) -> tuple[CompiledModel, list, dict, list] | None:
-    """(model, parameters needing values, declarations, notes) of entry `key`, or None if it is
-    missing or damaged."""
+def read_entry(key: str, folder: Path | None = None) -> tuple[CompiledModel, list, dict, list, list | None] | None:
+    """(model, parameters needing values, declarations, notes, unit findings) of entry `key`, or
+    None if it is missing or damaged."""
     folder = models_folder() if folder is None else folder
     if folder is None:
         return None
@@ -108,8 +109,9 @@ def read_entry(key: str, folder: Path | None = None) -> tuple[CompiledModel, lis
     try:
         model = CompiledModel.from_dict(data["model"])
         declarations = {name: Span(**span) for name, span in data["declarations"].items()}
+        findings = data.get("unit_findings")
         return (model, [str(n) for n in data["needs_values"]], declarations,
-                [str(n) for n in data["notes"]])
+                [str(n) for n in data["notes"]], None if findings is None else list(findings))
     except Exception:         # a sealed entry that does not rebuild (another CasADi): a miss
         return None
 
@@ -130,7 +132,7 @@ def store(spec: str, lib_dirs: Sequence[str], inputs: list[keys.Input], compilat
     private_folder(folder)
     entry = {"format": ENTRY_FORMAT, "model": compilation.model.to_dict(),
              "needs_values": _needs_values(compilation), "declarations": _declarations(compilation.flat),
-             "notes": list(notes)}
+             "notes": list(notes), "unit_findings": _unit_findings(compilation.flat)}
     write_sealed(folder / f"{key}{ENTRY_SUFFIX}", _dumps(entry))
     manifest = {"format": ENTRY_FORMAT, "spec": keys.normalized_spec(spec), "entry": key,
                 "inputs": [list(item) for item in recorded]}
@@ -193,6 +195,11 @@ def _declarations(flat) -> dict[str, dict]:
         if span is not None:        # dataclasses.asdict, without its deep copy (5x faster here)
             out[variable.name] = {name: getattr(span, name) for name in _SPAN_FIELDS}
     return out
+
+
+def _unit_findings(flat) -> list[dict] | None:
+    findings = getattr(flat, "unit_findings", None)
+    return None if findings is None else [finding.to_dict() for finding in findings]
 
 
 def _modified_since(path: str, threshold_ns: int) -> bool:

@@ -105,24 +105,23 @@ def use_c_code(compilation, cache: bool = True) -> BackgroundBuild | None:
     return BackgroundBuild(key)
 
 
-def build(entry_key: str) -> int:
-    """The builder process: compile the C library of entry `entry_key` and link it."""
+def build(entry_key: str) -> str | None:
+    """The builder process: compile the C library of entry `entry_key` and link it. None when it
+    did; else why not (the process exits with it, on its standard error, which
+    BackgroundBuild.finish reads)."""
     import warnings
     from compiler.lower import ccodegen
     found = read_entry(entry_key)
     compiler = ccodegen.find_compiler()
     folder = models_folder()
     if found is None or compiler is None or folder is None:
-        print("the cache entry or the C compiler is gone", file=sys.stderr)
-        return 1
+        return "the cache entry or the C compiler is gone"
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", ccodegen.CodegenWarning)
         native = ccodegen.compile_c(found[0])
     if native.native_library is None:
-        why = next((str(w.message) for w in caught if issubclass(w.category, ccodegen.CodegenWarning)),
-                   "no library")
-        print(why, file=sys.stderr)
-        return 1
+        return next((str(w.message) for w in caught if issubclass(w.category, ccodegen.CodegenWarning)),
+                    "no library")
     library = Path(native.native_library)
     write_sealed(_link_path(folder, entry_key, compiler), library.stem.removeprefix("dyad_").encode("ascii"))
-    return 0
+    return None

@@ -110,3 +110,17 @@ class EliminatedSystem:
         """Solve the algebraic part at (x, p, t), then the Jacobians there."""
         z = self.solve_algebraic(np.asarray(x, dtype=float), p, t, z_guess)
         return self.jacobians(np.asarray(x, dtype=float), z, p, t)
+
+    def with_inputs(self, p: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """The parameter vector p with the inputs set to u (a new vector)."""
+        full = np.array(p, dtype=float)
+        full[self.input_indices] = np.asarray(u, dtype=float).reshape(-1)
+        return full
+
+    def evaluate(self, x: np.ndarray, u: np.ndarray, p: np.ndarray, t: float,
+                 z_guess: np.ndarray | None = None) -> Jacobians:
+        """At states x, inputs u, parameters p (the inputs' entries are replaced), time t: the
+        algebraic unknowns by Newton, der(x), the outputs and the eliminated Jacobians (what an
+        FMU's fmi2GetDirectionalDerivative needs, as products with a seed vector)."""
+        guess = np.asarray(self.model.z_guess if z_guess is None else z_guess, dtype=float)
+        return self.at(x, self.with_inputs(p, u), t, guess)

@@ -60,7 +60,7 @@ def summary(system: LinearSystem, max_transfer_states: int = 6, max_channels: in
         lines.append("states: " + ", ".join(system.states))
     poles = sorted(system.poles(), key=lambda p: (p.real, p.imag))
     lines.append("poles:" + ("" if poles else " none"))
-    lines += [f"  {_complex(p)}" for p in poles[:40]]
+    lines += [f"  {complex_text(p)}" for p in poles[:40]]
     if len(poles) > 40:
         lines.append(f"  ... and {len(poles) - 40} more")
     if system.inputs and system.outputs:
@@ -107,7 +107,8 @@ def _polynomial(coefficients: np.ndarray) -> str:
     return " + ".join(terms).replace("+ -", "- ") or "0"
 
 
-def _complex(p: complex) -> str:
+def complex_text(p: complex) -> str:
+    """A pole as text: its real part alone when it is real (to 1e-12 of its size)."""
     if abs(p.imag) <= 1e-12 * max(abs(p), 1.0):
         return f"{p.real:.6g}"
     return f"{p.real:.6g} {'+' if p.imag > 0 else '-'} {abs(p.imag):.6g}i"

@@ -48,7 +48,6 @@ def analysis_point(flat: FlatSystem, name: str) -> AnalysisPoint:
         listed = ", ".join(sorted(points)) or "none"
         close = suggest_name(name, points)
         raise DyadError(f"`{flat.name}` has no analysis point `{name}`" + (f"; {close}" if close else ""),
-                        _model_span(flat),
                         hint=f"its analysis points: {listed} (declared as `NAME: "
                              f"analysis_point(output_signal, input_signal)`)")
     return points[name]
@@ -85,11 +84,6 @@ def with_linear_inputs(flat: FlatSystem, perturbed: list[str] = (), opened: list
     metadata["linear_inputs"] = [q.name for q in inputs + added]
     return dataclasses.replace(flat, variables=variables, equations=equations,
                                parameters=list(flat.parameters) + inputs + added, metadata=metadata)
-
-
-def _model_span(flat: FlatSystem):
-    from compiler.model.balance import span_from_text
-    return span_from_text(flat.metadata.get("model_span"))
 
 
 def _connection_index(equations: list[Equation], out: str, inp: str) -> int | None:

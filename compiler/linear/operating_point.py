@@ -51,11 +51,8 @@ def point_of_run(model: CompiledModel, p: np.ndarray, result: runtime.Result, sw
 
 def _active_model(model: CompiledModel, values: Mapping[str, float], p: np.ndarray, t: float,
                   switcher) -> CompiledModel:
-    if switcher is None and model.variants:
-        switcher = runtime.VariantSwitcher(model)
-    if switcher is None and model.universal is not None:
-        from compiler.runtime.universal import UniversalSwitcher
-        switcher = UniversalSwitcher(model)
+    if switcher is None:
+        switcher = runtime.default_switcher(model)
     if switcher is None:
         return model
     # the selection outputs of the model the run started in, evaluated at the point

@@ -11,12 +11,14 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
-from typing import Mapping, Sequence
+from typing import TYPE_CHECKING, Callable, Mapping, Sequence
 
 from compiler.errors import DyadError
-from compiler.linear.inputs import analysis_points, free_inputs, with_linear_inputs
 from compiler.linear.operating_point import initial_point, point_of_run, steady_point
 from compiler.linear.system import LinearSystem, linearize_at
+
+if TYPE_CHECKING:                    # the flat model's module imports sympy: not on the cached path
+    from compiler.model.flat import FlatSystem
 
 
 @dataclass(frozen=True)
@@ -34,20 +36,23 @@ class Request:
     params: Mapping[str, float] = field(default_factory=dict)
     opened: tuple[str, ...] = ()
     minimal: bool = False
+    # (model parameters, their declared units) -> params: the command line's `-p L=100mm`
+    convert_params: Callable[[Mapping[str, float], Mapping[str, str]], dict] | None = None
 
 
-def linearize_spec(spec: str, request: Request, lib_dirs: Sequence[str] = (), cache: bool = True
+def linearize_spec(spec: str | FlatSystem, request: Request, lib_dirs: Sequence[str] = (), cache: bool = True
                    ) -> LinearSystem:
     compiled = compile_linear(spec, request, lib_dirs, cache)
     return _linearize(compiled, request)
 
 
-def closed_loop_function(spec: str, kind: str, point: str, request: Request,
+def closed_loop_function(spec: str | FlatSystem, kind: str, point: str, request: Request,
                          lib_dirs: Sequence[str] = ()) -> LinearSystem:
     """`kind` "sensitivity", "comp_sensitivity" or "loop_transfer" at analysis point `point`."""
     opened = tuple(request.opened) + ((point,) if kind == "loop_transfer" else ())
     asked = dataclasses.replace(request, inputs=(point,), outputs=(point,), opened=opened, minimal=False)
     compiled = compile_linear(spec, asked, lib_dirs, cache=False)
+    from compiler.linear.inputs import analysis_points
     ap = analysis_points(compiled.flat)[point]
     measured = list(ap.inputs if kind == "sensitivity" else ap.outputs)
     labels = ap.scalar_names()
@@ -68,11 +73,14 @@ class LinearCompilation:
     free: list[str] = field(default_factory=list)     # the free top-level inputs among them
 
 
-def compile_linear(spec: str, request: Request, lib_dirs: Sequence[str], cache: bool) -> LinearCompilation:
-    """From the cache when nothing needs the flat model; else with free inputs and the analysis
-    points the request perturbs or opens made parameters (compiler/linear/inputs.py)."""
+def compile_linear(spec: str | FlatSystem, request: Request, lib_dirs: Sequence[str], cache: bool
+                   ) -> LinearCompilation:
+    """`spec` a model name or its flat model. From the cache when nothing needs the flat model;
+    else with free inputs and the analysis points the request perturbs or opens made parameters
+    (compiler/linear/inputs.py)."""
     from compiler.pipeline import compile_flat, compile_or_load, flatten_spec
-    if cache and not request.inputs and not request.opened:
+    given = None if isinstance(spec, str) else spec
+    if given is None and cache and not request.inputs and not request.opened:
         from compiler.cache import models
         from compiler.cache.store import CacheError
         try:
@@ -81,7 +89,8 @@ def compile_linear(spec: str, request: Request, lib_dirs: Sequence[str], cache: 
             found = None
         if found is not None and all(n in found.model.output_names for n in request.outputs):
             return LinearCompilation(found, None, [])
-    flat = flatten_spec(spec, lib_dirs)[0]
+    from compiler.linear.inputs import analysis_points, free_inputs, with_linear_inputs
+    flat = given or flatten_spec(spec, lib_dirs)[0]
     points = analysis_points(flat)
     free = free_inputs(flat)
     for name in (*request.inputs, *request.opened):
@@ -89,7 +98,7 @@ def compile_linear(spec: str, request: Request, lib_dirs: Sequence[str], cache: 
             _unknown(flat, name, points, free, opening=name in request.opened)
     perturbed = [n for n in request.inputs if n in points]
     if not (perturbed or request.opened or free):
-        compilation = compile_or_load(spec, lib_dirs, cache=cache)
+        compilation = compile_flat(flat) if given else compile_or_load(spec, lib_dirs, cache=cache)
         return LinearCompilation(compilation, flat, [])
     changed = with_linear_inputs(flat, perturbed, list(request.opened))
     return LinearCompilation(compile_flat(changed), changed, list(changed.metadata["linear_inputs"]), free)
@@ -97,12 +106,10 @@ def compile_linear(spec: str, request: Request, lib_dirs: Sequence[str], cache: 
 
 def _unknown(flat, name: str, points, free, opening: bool):
     from compiler.errors import suggest_name
-    from compiler.model.balance import span_from_text
     candidates = list(points) if opening else list(points) + list(free)
     close = suggest_name(name, candidates)
     what = "an analysis point" if opening else "a free top-level input or an analysis point"
     raise DyadError(f"`{name}` is not {what} of `{flat.name}`" + (f"; {close}" if close else ""),
-                    span_from_text(flat.metadata.get("model_span")),
                     hint=f"its free inputs: {', '.join(free) or 'none'}; its analysis points: "
                          f"{', '.join(sorted(points)) or 'none'}")
 
@@ -119,10 +126,14 @@ def _linearize(compiled: LinearCompilation, request: Request, inputs: Sequence[s
                                  f"takes -p NAME=VALUE")
     if outputs is None:
         outputs, labels = _outputs(compiled, request)
-    p = model.parameter_vector({**dict(request.params), **dict(request.op)})
+    params = dict(request.params)
+    if request.convert_params is not None:
+        params = request.convert_params(model.parameters, model.metadata.get("units", {}))
+    overrides = {**params, **dict(request.op)}
+    p = model.parameter_vector(overrides)
     point = initial_point(model, p)
     if request.at is not None:
-        point = point_of_run(model, p, _run(compiled, request), _switcher(compiled))
+        point = point_of_run(model, p, _run(compiled, request.at, overrides))
     if request.steady:
         point = steady_point(point)
     system = linearize_at(point, list(inputs), list(outputs), labels)
@@ -131,7 +142,10 @@ def _linearize(compiled: LinearCompilation, request: Request, inputs: Sequence[s
 
 def _outputs(compiled: LinearCompilation, request: Request) -> tuple[list[str], list[str]]:
     model = compiled.compilation.model
-    points = analysis_points(compiled.flat) if compiled.flat is not None else {}
+    points = {}
+    if compiled.flat is not None:
+        from compiler.linear.inputs import analysis_points
+        points = analysis_points(compiled.flat)
     if not request.outputs:
         from compiler.model.flat import OUTPUT
         tops = [v.name for v in compiled.flat.variables if v.kind == OUTPUT] if compiled.flat else []
@@ -150,17 +164,9 @@ def _outputs(compiled: LinearCompilation, request: Request) -> tuple[list[str], 
     return names, labels
 
 
-def _run(compiled: LinearCompilation, request: Request):
-    from compiler.api import simulate_compiled
-    overrides = {**dict(request.params), **dict(request.op)}
-    return simulate_compiled(compiled.compilation, float(request.at), points=2, params=overrides or None)
-
-
-def _switcher(compiled: LinearCompilation):
-    compilation = compiled.compilation
-    model = compilation.model
-    if getattr(compilation, "dynamic", False) and not model.variants and model.universal is None:
-        from compiler.lower.state_set_variants import Switcher
-        return Switcher(compilation.flat, compilation.analysis, compilation.variant, model)
-    return None
+def _run(compiled: LinearCompilation, at: float, overrides: Mapping[str, float]):
+    """The run to the operating time, on the one run path (located errors; the runtime picks the
+    state-set switcher the model needs)."""
+    from compiler.compiled_runs import simulate_compiled
+    return simulate_compiled(compiled.compilation, float(at), points=2, params=dict(overrides) or None)
 

@@ -47,9 +47,9 @@ class LinearSystem:
             return np.full(self.D.shape, np.inf)
 
     def to_control(self):
+        """A python-control StateSpace (unnamed signals: its names may not hold dots)."""
         import control
-        return control.ss(self.A, self.B, self.C, self.D, inputs=list(self.inputs),
-                          outputs=list(self.outputs), states=list(self.states) or None)
+        return control.ss(self.A, self.B, self.C, self.D)
 
     def minimal_realization(self, tol: float = 1e-9) -> "LinearSystem":
         """The minimal realization: the reachable part (orthonormal Krylov basis of (A, B)), then

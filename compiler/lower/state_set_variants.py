@@ -1,41 +1,42 @@
-"""Dynamic state selection, compile side: the state-set variants of a model and the switcher the
-runtime calls where the current set degrades.
+"""Dynamic state selection, compile side: the state-set variants of a model, lowered to CasADi.
 
 A variant is the model compiled for one choice of dummy derivatives. Besides the user's signals
 it outputs every unknown of the index-1 system (so that any other variant can start from its
 values) and, for each level of the dummy-derivative choice whose pivot block depends on the
 unknowns, the entries of that level's Jacobian (the runtime watches them, see
 compiler/runtime/state_sets.py). A choice whose pivot blocks are constant is valid everywhere: it
-is never monitored. The runtime's one driver integrates; this module only provides variants.
+is never monitored. Which state sets exist and which levels are watched is structural analysis
+(compiler/structure/state_selection/); the runtime's one driver integrates and switches
+(compiler/runtime/variants.py).
 """
 from __future__ import annotations
 
 import dataclasses
-from dataclasses import dataclass, field
-from typing import Mapping
+import itertools
+import warnings
+from dataclasses import dataclass
 
-import numpy as np
-import sympy
 
 from compiler import runtime
 from compiler.errors import DyadError
 from compiler.model.flat import FlatSystem
-from compiler.lower.selection_layout import selection_assignments, selection_levels, selection_metadata
-from compiler.lower.state_set_folds import alias_folds
-from compiler.lower.state_set_levels import _priority_function, monitored_levels
-from compiler.lower.regular_subsets import augment_path
 from compiler.lower.to_casadi import lower
-from compiler.runtime.variants import DUMMIES, SELECTION, dummy_choice
-from compiler.structure.collection import fewer_collections
-from compiler.structure.differentiate import partial
-from compiler.structure.indexed import IndexedSystem
+from compiler.runtime.selection_rules import watched_level
+from compiler.runtime.variants import DUMMIES, SELECTION
 from compiler.structure.reduce import Analysis, StructureReport, reduce
-from compiler.structure.reduced import Assignment, ReducedSystem
+from compiler.structure.reduced import ReducedSystem
+from compiler.structure.state_selection.enumeration import TooManyToList, possible_choices
+from compiler.structure.state_selection.forcing import forcing
+from compiler.structure.state_selection.layout import (choice_priority, selection_assignments, selection_levels,
+                                                       selection_metadata)
+from compiler.structure.state_selection.monitored import monitored_levels, pivot_outputs
+
+VARIANT_LIMIT = 64
+COUNT_LIMIT = 1_000      # how far an over-the-limit model's variants are counted (100,000 took 6 s)
 
 
-# the output every structurally zero entry of a monitored level's Jacobian reads (at chain N = 32,
-# 1,920 of its 2,048 entries, each its own output before: 2,780 -> 861 outputs per state set)
-PIVOT_ZERO = "__pivot_zero"
+class VariantLimitWarning(UserWarning):
+    """A model has more possible state sets than are compiled ahead of time."""
 
 
 @dataclass
@@ -45,8 +46,6 @@ class Variant:
     model: runtime.CompiledModel
     report: StructureReport
     public_names: list[str]
-    # every state set reached from this one, built once and kept for later runs (shared by all)
-    siblings: dict = field(default_factory=dict)
 
 
 def build_variant(flat: FlatSystem, analysis: Analysis, point: dict[str, float] | None,
@@ -58,24 +57,10 @@ def build_variant(flat: FlatSystem, analysis: Analysis, point: dict[str, float] 
     public = list(reduced.output_names)
     known = set(public)
     internal = [n for n in system.names if n not in known]
-    pivots: list[Assignment] = []
-    layouts = []
-    for level, rows, candidates, chosen in monitored_levels(flat, analysis, report):
-        entries = []                # per entry of the level's Jacobian, row-major: its pivot output
-        for i, e in enumerate(rows):
-            occurring = set(system.incidence[e])
-            for j, v in enumerate(candidates):
-                derivative = partial(system.equations[e], system.symbols[v]) if v in occurring else 0
-                if derivative == 0:
-                    entries.append(None)            # structurally zero: one shared zero output
-                else:
-                    entries.append(len(pivots))
-                    pivots.append(Assignment(f"__pivot{level}[{i},{j}]", derivative))
-        layouts.append((rows, candidates, chosen, entries))
-    if any(None in entries for *_, entries in layouts):
-        pivots.append(Assignment(PIVOT_ZERO, sympy.Integer(0)))
+    watched = monitored_levels(flat, analysis, report)
+    pivots, layouts = pivot_outputs(system, watched)
     # every level's Jacobian over all its possible candidates: the runtime makes the choice again
-    priority = _priority_function(analysis)
+    priority = choice_priority(analysis)
     levels = selection_levels(system, priority)
     selecting = selection_assignments(system, levels)
     monitored = dataclasses.replace(reduced, observables=list(reduced.observables) + pivots + selecting,
@@ -87,114 +72,61 @@ def build_variant(flat: FlatSystem, analysis: Analysis, point: dict[str, float] 
     model = model.replace(state_sets=[_state_set(rows, cands, chosen,
                                                  [zero if k is None else offset + k for k in entries],
                                                  system.names, priority)
-                                      for rows, cands, chosen, entries in layouts],
+                                      for (_, rows, cands, chosen), entries in zip(watched, layouts)],
                           metadata={**model.metadata, DUMMIES: dummies,
-                                    SELECTION: _with_folds(system, levels, selection_metadata(system, levels, public))})
+                                    SELECTION: selection_metadata(system, levels, public)})
     return Variant(tuple(monitored.states), monitored, model, report, public)
-
-
-def _with_folds(system, levels, layout: dict) -> dict:
-    """The runtime's layout with each level's alias folds as [row, u, w] (names)."""
-    names = system.names
-    return {**layout, "levels": [
-        {**plain, "folds": [[i, names[u], names[w]]
-                            for i, u, w in alias_folds(system, level.rows, level.order, level.priority.get)]}
-        for plain, level in zip(layout["levels"], levels)]}
 
 
 def _state_set(rows: list[int], candidates: list[int], chosen: list[int], entries: list[int],
                names: list[str], priority) -> dict:
-    """A monitored level in the runtime's plain form (CompiledModel.state_sets): the level's
+    """A monitored level in the runtime's plain form (selection_rules.watched_level): the level's
     Jacobian entries are the outputs `entries` (row-major; every structural zero is the one output
-    PIVOT_ZERO), candidate positions are grouped by priority class, lowest first, as the
-    dummy-derivative choice orders them."""
-    order = sorted(range(len(candidates)), key=lambda j: (priority(candidates[j]), j))
-    classes: dict[int, list[int]] = {}
-    for j in order:
-        classes.setdefault(priority(candidates[j]), []).append(j)
-    return {"rows": len(rows), "candidates": [names[v] for v in candidates],
-            "chosen": [candidates.index(v) for v in chosen], "classes": list(classes.values()),
-            "entries": list(entries)}
+    PIVOT_ZERO)."""
+    return watched_level(len(rows), [names[v] for v in candidates], [candidates.index(v) for v in chosen],
+                         [priority(v) for v in candidates], entries)
 
 
-class Switcher:
-    """The runtime's StateSetSwitcher for a model that carries no variants (over the limit of
-    state_set_enumeration): where the current state set degrades, make the run-time choice
-    (variants.dummy_choice, as VariantSwitcher does) and hand back its variant, built then and
-    kept. A run that began in C code stays in C code in every state set."""
-
-    def __init__(self, flat: FlatSystem, analysis: Analysis, first: Variant,
-                 model: runtime.CompiledModel | None = None):
-        """`model`: the first state set's model as the run has it (compiled to C, say)."""
-        self.flat, self.analysis, self.first = flat, analysis, first
-        self.public_names = list(first.public_names)
-        model = first.model if model is None else model
-        self.c_code = model.native_library is not None
-        known = first.siblings.get(first.states)
-        if known is None or (self.c_code and known.model.native_library is None):
-            first.siblings[first.states] = dataclasses.replace(first, model=model)
-
-    def switch(self, model: runtime.CompiledModel, values: Mapping[str, float], t: float) -> runtime.CompiledModel:
-        layout = model.metadata.get(SELECTION)
-        dummies = dummy_choice(layout["levels"], values) if layout else None
-        if layout and dummies is None:
-            return model                      # no regular choice here: the driver reports it
-        cache = self.first.siblings
-        variant = next((known for known in cache.values()
-                        if frozenset(known.model.metadata.get(DUMMIES, ())) == dummies), None)
-        if variant is None:
-            with fewer_collections():     # as while compiling: a full collection of the compiler's
-                variant = self._build(dummies, values)      # heap took 0.08 s of a 0.9 s run
-            variant.siblings = cache
-            cache[variant.states] = variant
-        if self.c_code and variant.model.native_library is None:
-            from compiler.lower.ccodegen import compile_c
-            variant.model = compile_c(variant.model)
-        return variant.model
-
-    def _build(self, dummies: frozenset | None, values: Mapping[str, float]) -> Variant:
-        """The variant of the run-time choice `dummies` (variants.dummy_choice, as the variants a
-        model carries are chosen), or, for a model without the layout, of the compiler's choice."""
-        if dummies is not None:
-            report = StructureReport()
-            try:
-                reduced = reduce(self.flat, report=report, analysis=self.analysis,
-                                 pivots=forcing(self.analysis.system, dummies))
-                return build_variant(self.flat, self.analysis, None, reduced=reduced, report=report)
-            except DyadError:
-                pass                          # no causal order for that choice: the compiler's own
-        point = {k: float(v) for k, v in values.items() if not k.startswith("__pivot")}
-        return build_variant(self.flat, self.analysis, point)
-
-
-def row_positions(system: IndexedSystem, rows) -> dict[int, list[int]]:
-    """Every unknown of `rows` -> the positions of the rows that contain it, in row order."""
-    positions: dict[int, list[int]] = {}
-    for i, e in enumerate(rows):
-        for v in system.incidence[e]:
-            positions.setdefault(v, []).append(i)
-    return positions
-
-
-def matching(system: IndexedSystem, rows, columns, positions: dict[int, list[int]] | None = None) -> dict[int, int]:
-    """A maximum matching column -> row position (augmenting paths; levels are small).
-    `positions`: row_positions(system, rows), given where many column sets share the rows (a scan
-    of every row per column was 1.5 of 2 s of the state-set enumeration at chain N = 32)."""
-    if positions is None:
-        positions = row_positions(system, rows)
-    row_to_column: dict[int, int] = {}
-    for v in columns:
-        augment_path(positions, row_to_column, v, set())
-    return {v: i for i, v in row_to_column.items()}
-
-
-def forcing(system: IndexedSystem, dummies: frozenset[str]):
-    """A Jacobian (rows, cols) -> matrix under which the numerical selection picks `dummies`:
-    a unit entry per chosen column on the row it is matched to, zero elsewhere."""
-    def jacobian(rows: list[int], cols: list[int]) -> np.ndarray:
-        chosen = [v for v in cols if system.names[v] in dummies]
-        matrix = np.zeros((len(rows), len(cols)))
-        for v, i in matching(system, rows, chosen).items():
-            matrix[i, cols.index(v)] = 1.0
-        return matrix
-    return jacobian
+def with_variants(flat: FlatSystem, analysis: Analysis, root: Variant,
+                  limit: int = VARIANT_LIMIT) -> Variant:
+    """`root` whose model carries every other possible state set (`model.variants`), or `root`
+    unchanged, with a VariantLimitWarning, when there are more than `limit`."""
+    system = analysis.system
+    levels = selection_levels(system, choice_priority(analysis))
+    walk = possible_choices(flat, system, levels)
+    choices: list | None = []
+    try:
+        choices.extend(itertools.islice(walk, limit + 1))
+    except TooManyToList:
+        choices = None
+    if choices is None or len(choices) > limit:
+        try:
+            if choices is None:
+                raise TooManyToList
+            # counted by going on with the same walk (not walking again from the start)
+            count = len(choices) + sum(1 for _ in itertools.islice(walk, COUNT_LIMIT + 1 - len(choices)))
+            counted = f"more than {COUNT_LIMIT:,}" if count > COUNT_LIMIT else f"{count:,}"
+        except TooManyToList:
+            counted = f"more than {limit}"
+        warnings.warn(f"model {flat.name} has {counted} possible state sets, more than the {limit} "
+                      f"compiled with it: a run makes the others from its index-1 system when it "
+                      f"reaches them (in-process, from the cache, in generated code and in C alike)",
+                      VariantLimitWarning, stacklevel=2)
+        return root
+    first = frozenset(root.model.metadata["dummy_derivatives"])
+    variants = {}
+    for dummies in choices:
+        if dummies == first:
+            continue
+        report = StructureReport()
+        try:
+            reduced = reduce(flat, report=report, analysis=analysis, pivots=forcing(system, dummies))
+        except DyadError:
+            continue                   # regular level by level, yet no causal order: never chosen
+        built = build_variant(flat, analysis, None, reduced=reduced, report=report)
+        got = frozenset(built.model.metadata["dummy_derivatives"])
+        if got != first:
+            # `got` differs from `dummies` only if the selection changed its rules without
+            # state_selection/layout.py following: kept under what it is, the runtime never picks it wrongly
+            variants.setdefault(got, built.model)
+    return dataclasses.replace(root, model=root.model.replace(variants=variants))

@@ -1,7 +1,7 @@
 """Every state set of a model from one compiled system: the index-1 system before any state choice.
 
 A model can have more state sets than are worth compiling one by one (a chain of N bodies written
-in Cartesian coordinates has (3^N + 1) / 2 of them; state_set_enumeration.py stops at 64). All of
+in Cartesian coordinates has (3^N + 1) / 2 of them; state_set_variants.py compiles at most 64). All of
 them are the same equations: the index reduction's system (compiler/structure/indexed.py) with
 every variable and every derivative variable an unknown. A choice of dummy derivatives only says
 which variables are states, der(v) = (the unknown der(v)), and which are algebraic. So the model
@@ -19,7 +19,7 @@ import sympy
 from compiler import runtime
 from compiler.runtime.universal import UNIVERSAL
 from compiler.lower.to_casadi import lower
-from compiler.lower.state_set_levels import stand_in_pairs
+from compiler.structure.state_selection.monitored import stand_in_pairs
 from compiler.structure.reduce import Analysis
 from compiler.structure.reduced import InitialProblem, ReducedSystem
 

@@ -97,6 +97,7 @@ class FlatSystem:
     metadata: dict = field(default_factory=dict)                # tests, render info: not numerics
     visual: dict = field(default_factory=dict)                  # render info per instance path
     warnings: list[str] = field(default_factory=list)
+    unit_findings: list | None = None       # compiler.units findings; None: not checked (--units off)
 
     def variable(self, name: str) -> Variable:
         for v in self.variables:

@@ -3,8 +3,8 @@ of library functions keyed by qualified name (see docs/functions.md).
 
 A function implementation receives evaluated arguments (sympy scalars or numpy object arrays of
 sympy scalars) and returns such a value. Implementations never see AST nodes; `der`, `ifelse` and
-the array constructors that need structural integers are handled by the expression evaluator,
-which knows the evaluation mode.
+the array constructors that need structural integers are forms of the table of built-ins
+(compiler/model/builtins.py), which lists ELEMENTARY as well.
 """
 from __future__ import annotations
 
@@ -16,8 +16,6 @@ from typing import Callable, Sequence
 
 import numpy as np
 import sympy
-
-from compiler.errors import closest
 
 Value = object  # sympy.Expr | np.ndarray (dtype=object) | str
 
@@ -184,11 +182,6 @@ ELEMENTARY: dict[str, FunctionImpl] = {
     "identity": FunctionImpl("identity", lambda value: value, 1, 1),
 }
 
-# Handled by the evaluator itself (they need the mode or structural integers); listed so that the
-# did-you-mean hint and docs know them.
-EVALUATOR_FUNCTIONS = ("der", "D", "not", "ifelse", "fill", "zeros", "ones", "size")
-
-
 # ------------------------------------------------------------------------------ the registry
 
 class FunctionRegistry:
@@ -243,18 +236,6 @@ register_function("MultibodyComponents.PlanarMechanics.gravity_acceleration_2d",
                   _gravity_acceleration_2d, 0, 0, "world gravity vector g * n = [0, -9.80665]")
 
 
-def known_function_names(registry: FunctionRegistry = GLOBAL_REGISTRY) -> list[str]:
-    return sorted(set(ELEMENTARY) | set(EVALUATOR_FUNCTIONS) | set(registry.names()))
-
-
-def suggest_function(name: str, registry: FunctionRegistry = GLOBAL_REGISTRY) -> str | None:
-    candidates = known_function_names(registry)
-    short = {c.rsplit(".", 1)[-1]: c for c in candidates}
-    match = closest(name, candidates)
-    if match:
-        return match[0]
-    match = closest(name.rsplit(".", 1)[-1], short)
-    return short[match[0]] if match else None
-
-
 PI = sympy.Float(math.pi)
+# Names every expression knows, unless a member or binding of the scope takes them.
+CONSTANTS = {"pi": PI, "π": PI, "Inf": sympy.oo}

@@ -17,9 +17,9 @@ from pathlib import Path
 from typing import Callable, Sequence
 
 from compiler.errors import DyadError, Span, closest, suggest_name
+from compiler.model.builtins import builtin, suggest_function
+from compiler.model.functions import GLOBAL_REGISTRY, FunctionImpl, FunctionRegistry
 from compiler.syntax.modelica_forms import modelica_form_error
-from compiler.model.functions import ELEMENTARY, GLOBAL_REGISTRY, FunctionImpl, FunctionRegistry, \
-    suggest_function
 from compiler.julia.functions import JuliaFunction, UnreadableFunction, julia_source_files, \
     read_julia_functions
 from compiler.model.library_path import LIBRARY_PATH_VARIABLE, Root, describe, search_path
@@ -237,8 +237,9 @@ class Library:
 
     def resolve_function(self, name: str, package: str, file: ast.File | None,
                          span: Span | None) -> FunctionImpl | JuliaFunction:
-        if "." not in name and name in ELEMENTARY:
-            return ELEMENTARY[name]
+        entry = builtin(name)
+        if entry is not None and entry.function is not None:
+            return entry.function
         candidates = self._candidates(name, package, file)
         for candidate in candidates:
             self._load_plugins_for(candidate)

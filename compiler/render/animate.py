@@ -3,10 +3,7 @@ finds. The figure is a bare matplotlib Figure on its own Agg canvas: pyplot is n
 the user's matplotlib backend is left as it was."""
 from __future__ import annotations
 
-import math
-import time as clock
 from dataclasses import dataclass
-from typing import Sequence
 
 import numpy as np
 
@@ -234,43 +231,3 @@ def _limits(scene: planar.PlanarScene, tracks: planar.FrameTracks):
     span = max(float(np.max(hi - lo)), 1e-3)
     pad = 0.08 * span
     return (lo[0] - pad, hi[0] + pad), (lo[1] - pad, hi[1] + pad)
-
-
-def main_animate(model_spec: str, lib_dirs: Sequence[str], stop: float, output: str | None = None, *,
-                 fps: int = 12, frames: int | None = None, duration: float | None = None,
-                 video_format: str | None = None) -> int:
-    """`dyadc animate`: compile, simulate over [0, stop] and write the side view. The length is
-    `frames`, or `duration` seconds at `fps` (default 120 frames); everything is checked before
-    the compile."""
-    from compiler import api
-    from compiler.cli_outputs import check_output_file, check_writable_folder
-
-    if not (math.isfinite(stop) and stop > 0):
-        raise DyadError(f"--stop must be a positive finite time, got {stop}")
-    if duration is not None:
-        if frames is not None:
-            raise DyadError("give --frames or --duration, not both")
-        if not (math.isfinite(duration) and duration > 0):
-            raise DyadError(f"--duration must be a positive finite number of seconds, got {duration}")
-        frames = max(1, round(duration * fps))
-    frames = 120 if frames is None else frames
-    video.check_rate(fps, frames)
-    chosen = video.format_of(output or f"animation.{video_format or 'gif'}", video_format)
-    if chosen == "mp4":
-        video.ffmpeg()
-    if output:
-        check_output_file(output, "--output")
-    else:
-        check_writable_folder(".", "the animation's default output folder")
-    started = clock.perf_counter()
-    compilation = api.compile(model_spec, list(lib_dirs))
-    compiled = clock.perf_counter()
-    result = api.simulate_compiled(compilation, stop, rtol=1e-6, points=max(10 * frames + 1, 501))
-    simulated = clock.perf_counter()
-    target = output or f"{model_title(compilation.flat)}.{chosen}"
-    drawn = animate(compilation, result, target, fps=fps, frames=frames, video_format=chosen)
-    finished = clock.perf_counter()
-    parts = ", ".join(f"{n} {kind}" for kind, n in drawn.items() if kind not in ("frames", "fps") and n)
-    print(f"wrote {target}: {drawn['frames']} frames at {fps} fps ({parts}); compile {compiled - started:.2f} s, "
-          f"simulate {simulated - compiled:.2f} s, render {finished - simulated:.2f} s")
-    return 0

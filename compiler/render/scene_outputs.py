@@ -13,7 +13,9 @@ FRAMES = 120
 FPS = 12
 
 
-def main_scene_outputs(out_dir: str = "out") -> int:
+def write_scene_outputs(out_dir: str = "out") -> list[str]:
+    """Write the three files into `out_dir`; the lines that say what was written and how long
+    each step took (`make run` prints them)."""
     from compiler import api
     from compiler.render.animate import animate
     from compiler.render.scene_plot import plot_excavator
@@ -33,12 +35,11 @@ def main_scene_outputs(out_dir: str = "out") -> int:
     animate(compilation, result, gif_path, fps=FPS, frames=FRAMES)
     animated = time.perf_counter()
 
-    print(f"wrote {written[0]} ({len(result.names)} signals x {len(result.time)} points) and {written[1]}")
-    print(f"wrote {png_path}")
-    print(f"wrote {gif_path} ({FRAMES} frames at {FPS} fps)")
-    print(f"compile {compiled - started:.2f} s, simulate {simulated - compiled:.2f} s "
-          f"({result.stats.get('steps', '?')} steps), plot {plotted - simulated:.2f} s, "
-          f"animate {animated - plotted:.2f} s")
-    print(f"payload at t = {result.time[-1]:g} s: {result['soil.m_load'][-1]:.2f} kg; "
-          f"max penetration soil.d: {np.max(result['soil.d']):.4f} m")
-    return 0
+    return [f"wrote {written[0]} ({len(result.names)} signals x {len(result.time)} points) and {written[1]}",
+            f"wrote {png_path}",
+            f"wrote {gif_path} ({FRAMES} frames at {FPS} fps)",
+            f"compile {compiled - started:.2f} s, simulate {simulated - compiled:.2f} s "
+            f"({result.stats.get('steps', '?')} steps), plot {plotted - simulated:.2f} s, "
+            f"animate {animated - plotted:.2f} s",
+            f"payload at t = {result.time[-1]:g} s: {result['soil.m_load'][-1]:.2f} kg; "
+            f"max penetration soil.d: {np.max(result['soil.d']):.4f} m"]

@@ -7,9 +7,11 @@ Public API (docs/runtime.md):
   simulate(model, ...)       -> Result (time, signals by name, events, state-set switches, writers, plot)
   StateSetSwitcher           what a caller provides to switch state sets during a run
   VariantSwitcher            the one that switches among the state sets a model carries
+  default_switcher(model)    the switcher simulate uses for a model when the caller gives none
   SimulationFailed, InitializationFailed, SimulationInterrupted, ModelInputError
 """
 from .run_state import StateSetSwitcher
+from .driver import default_switcher, simulate
 from .errors import (InitializationFailed, ModelInputError, SimulationFailed, SimulationInterrupted,
                      did_you_mean)
 from .initialization import consistent_initialization
@@ -19,11 +21,11 @@ from .outputs import evaluate_outputs, polish_algebraics
 from .result import Result
 from .signal_patterns import expand_patterns, matching_signals
 from .state_sets import SWITCH_RATIO, pivoted_columns, state_selection_quality
-from .universal import simulate
 from .variants import VariantSwitcher
 
 __all__ = ["CompiledModel", "FORMAT_VERSION", "InitializationFailed", "ModelInputError", "Result",
            "SWITCH_RATIO", "SimulationFailed", "SimulationInterrupted", "SimulationOptions",
-           "StateSetSwitcher", "VariantSwitcher", "consistent_initialization", "did_you_mean", "evaluate_outputs",
-           "expand_patterns", "matching_signals", "pivoted_columns", "polish_algebraics", "simulate",
+           "StateSetSwitcher", "VariantSwitcher", "consistent_initialization", "default_switcher",
+           "did_you_mean", "evaluate_outputs", "expand_patterns", "matching_signals", "pivoted_columns",
+           "polish_algebraics", "simulate",
            "state_selection_quality"]

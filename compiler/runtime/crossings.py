@@ -1,6 +1,7 @@
-"""What the driver does with the watched functions of a segment (watches.py): find the first
-crossing between check times, locate it by a root search on short IDAS runs, predict how far
-the next IDAS call of a state-set model should reach, and where to cut a call that failed."""
+"""What an integrator without root finding (sampled_idas.py) does with the watched functions
+(watches.py): find the first crossing between check times, locate it by a root search on short
+IDAS runs, predict how far the next call of a state-set model should reach, and where to cut a
+call that failed; and which sign changes count (root_directions)."""
 from __future__ import annotations
 
 import numpy as np
@@ -85,6 +86,12 @@ def predicted_stay(intervals: list[float], last_in_set: float | None) -> float:
     return min(intervals[-2:])
 
 
+def root_directions(watch: Watch) -> np.ndarray:
+    """Which sign changes of each watched row count, as IDAS's root directions: 0 both ways (a
+    state event), -1 from positive to not positive (a bound left, a state set degrading)."""
+    return np.array([0 if kind == "event" else -1 for kind, _ in watch.labels], dtype=int)
+
+
 def first_crossing(model: CompiledModel, watch: Watch, t0, p, times, checks, segment, values,
                    ignored: set[int] = frozenset()):
     """(check time after the crossing, check time before it, row) of the first watched function
@@ -93,9 +100,8 @@ def first_crossing(model: CompiledModel, watch: Watch, t0, p, times, checks, seg
     at = np.searchsorted(times, checks)
     xs, zs = segment.xs[:, at], segment.zs[:, at]
     before, after = values[:, :-1], values[:, 1:]
-    kinds = [kind for kind, _ in watch.labels]
-    events = np.array([k == "event" for k in kinds])[:, None]
-    crossed = np.where(events, (before > 0) != (after > 0), (before > 0) & ~(after > 0))
+    both_ways = (root_directions(watch) == 0)[:, None]
+    crossed = np.where(both_ways, (before > 0) != (after > 0), (before > 0) & ~(after > 0))
     crossed &= np.isfinite(before)
     if ignored:
         crossed[sorted(ignored)] = False

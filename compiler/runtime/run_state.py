@@ -1,17 +1,20 @@
-"""The state of one run of the driver (driver.py): where it is, which model (state set) it
-integrates, the IDAS objects and tolerances it uses, and the samples it has collected; and how far
-the IDAS calls of a model with state sets reach."""
+"""The state of one run (run_loop.py): where it is, which model (state set) it integrates with
+which parameters, the integrators and tolerances it uses, the samples it has collected, what
+happened so far (events, switches, bounds left), and how far the calls of a model with state sets
+reach."""
 from __future__ import annotations
 
-from typing import Mapping, Protocol
+from typing import Callable, Mapping, Protocol
 
 import numpy as np
 
+from .checks import state_scales
 from .idas import integrator_options
-from .integrator import COUNTERS, IdasIntegrator
+from .integrator import COUNTERS, Call, Integrator
 from .model import CompiledModel
 from .options import SimulationOptions
 from .outputs import signals_at
+from .sampled_idas import SampledIdas
 from .segments import clock_on_switches
 from .watches import build_watch
 
@@ -43,11 +46,14 @@ class StateSetSwitcher(Protocol):
 
 
 class RunState:
-    """The state of one run: where it is, which model (state set) it integrates, what it collected."""
+    """The state of one run: where it is, which model (state set) it integrates, what it collected.
+    `make_integrator(model, idas options, watch, tally)` makes its integrators (integrator.py)."""
 
-    def __init__(self, model: CompiledModel, options: SimulationOptions, switcher):
+    def __init__(self, model: CompiledModel, options: SimulationOptions, switcher,
+                 make_integrator: Callable[..., Integrator] = SampledIdas):
         self.options = options
         self.switcher = switcher
+        self.make_integrator = make_integrator
         self.public = options.chosen_signals(list(switcher.public_names) if switcher is not None
                                              else list(model.output_names))
         self.grid = options.grid()
@@ -65,9 +71,7 @@ class RunState:
         self.integrators: dict[tuple, tuple] = {}
         self.parameter_vectors: dict[int, np.ndarray] = {}    # per state set, read-only
         self.pending: dict[int, tuple] = {}
-        self.forced_ends: set[float] = set()
-        self.retry: tuple | None = None
-        self.t = options.start
+        self.forced_ends: set[float] = set()     # ends of calls cut before a failure
         # how far one IDAS call reaches in a model with state sets (crossings.next_horizon)
         self.horizon = (options.stop - options.start) / INITIAL_CHUNKS
         # an indicator that hovers near zero without crossing must not shrink the calls for ever
@@ -75,8 +79,34 @@ class RunState:
         self.last_switch = options.start
         self.intervals: list[float] = []         # between the state-set switches so far
         self.durations: dict[tuple, float] = {}  # how long the run last stayed in each state set
+        self.ends: list[float] = []              # where segments end (segments.segment_ends)
+        # where the run is: the model (state set) it integrates with parameters p, the point
+        # (t, x, z), the states' scales, the next output index and the next segment end
+        self.model = model
+        self.t = options.start
+        self.p = self.x = self.z = self.scale = None
+        self.k = 1
+        self.end_index = 0
+        self.restarts_here = 0                   # crossings in a row without time advancing
+        self.live_from: float | None = None      # a call from this time evaluates relations live
+        self.retry: Call | None = None           # the next call: a failed one, cut short
 
-    def integrator(self, model: CompiledModel):
+    def start_at(self, p: np.ndarray, x, z) -> None:
+        """The run at its start: the point, the states' scales, the first output."""
+        self.p, self.x, self.z = p, x, z
+        self.scale = state_scales(self.model, x)
+        index = [self.model.output_index(n) for n in self.public]
+        self.values[:, 0] = signals_at(self.model, np.asarray(x).reshape(-1, 1), np.asarray(z).reshape(-1, 1),
+                                       p, np.array([self.grid[0]]), index)[:, 0]
+
+    def move(self, t: float, x, z) -> None:
+        self.t, self.x, self.z = t, x, z
+
+    def segment_end(self) -> float:
+        return self.ends[self.end_index]
+
+    def integrator(self, model: CompiledModel) -> Integrator:
+        """The integrator of `model` for this run (tolerances tightened from the first switch on)."""
         switched = bool(self.switches)           # from the first switch on: tighter tolerances
         key = (id(model), switched)
         if key not in self.integrators:
@@ -88,20 +118,22 @@ class RunState:
                          if isinstance(atol, Mapping) else atol / factor)
             opts = integrator_options(model, self.options.rtol / factor, tightened,
                                       self.options.max_steps, self.options.idas_options())
-            public_index = [model.output_index(n) for n in self.public]
-            self.integrators[key] = (model, IdasIntegrator(model, opts), watch, public_index)
-        return self.integrators[key][1:]
+            self.integrators[key] = (model, self.make_integrator(model, opts, watch, self.add))
+        return self.integrators[key][1]
 
-    def store(self, model: CompiledModel, xs, zs, p, times, first: int, public_index) -> None:
-        """Keep the point at the grid times first, first + 1, ... (which are `times`); the outputs
+    def store(self, model: CompiledModel, xs, zs, p, times) -> None:
+        """Keep the points at the next output times (which are `times`); the outputs
         are computed at the end, in one vectorized call per state set and parameter vector
         (`finish`; the parameters are kept once per chunk, not once per point: the excavator's 211
         at 1201 points cost 5 ms to repeat and compare)."""
         n = len(times)
         if n == 0:
             return
-        xs, zs, columns = np.asarray(xs)[:, :n], np.asarray(zs)[:, :n], np.arange(first, first + n)
-        chunks = self.pending.setdefault(id(model), (model, public_index, {}))[2]
+        xs, zs, columns = np.asarray(xs)[:, :n], np.asarray(zs)[:, :n], np.arange(self.k, self.k + n)
+        self.k += n
+        if id(model) not in self.pending:
+            self.pending[id(model)] = (model, [model.output_index(name) for name in self.public], {})
+        chunks = self.pending[id(model)][2]
         for which, p_run in clock_on_switches(model, np.asarray(p, dtype=float).reshape(-1), times[:n], self.ends):
             chunks.setdefault(p_run.tobytes(), (p_run, []))[1].append((xs[:, which], zs[:, which], columns[which]))
 

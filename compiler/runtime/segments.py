@@ -71,13 +71,9 @@ def clock_on_switches(model: CompiledModel, p: np.ndarray, times, ends) -> list[
     return runs
 
 
-def segment_times(grid: np.ndarray, k: int, end: float) -> tuple[list[float], int]:
-    """The output times from grid index k up to `end`, inclusive (IDAS's grid for the segment,
-    ending at `end`), and how many of them are grid points."""
-    upto = np.searchsorted(grid, end, side="right")
+def output_times(grid: np.ndarray, k: int, reach: float) -> list[float]:
+    """The output times from grid index k up to `reach`, inclusive."""
+    upto = np.searchsorted(grid, reach, side="right")
     times = [float(v) for v in grid[k:upto]]
     assert not times or times[0] > grid[k - 1], "output times run backwards"
-    m = len(times)
-    if not times or times[-1] != end:
-        times.append(float(end))
-    return times, m
+    return times

@@ -22,7 +22,7 @@ def pivoted_columns(matrix: np.ndarray, classes: Sequence[Sequence[int]], n_rows
     part orthogonal to the columns already chosen, until `n_rows` are chosen. This is the
     numerical dummy-derivative choice of the compiler, also made again where a run switches.
 
-    `folds`: (row, u, w) alias rows of the level (compiler/lower/state_set_folds.py): u is always
+    `folds`: (row, u, w) alias rows of the level (compiler/structure/state_selection/folds.py): u is always
     taken, the choice is made without the rows and the w columns, and w is taken with u where
     that choice takes u."""
     matrix = np.asarray(matrix, dtype=float)

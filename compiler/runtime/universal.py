@@ -5,8 +5,8 @@ every unknown algebraic (`CompiledModel.universal`, compiler/lower/universal_var
 choice of dummy derivatives D, a variable v whose derivative der(v) is an unknown is a state when
 neither v nor der(v) is in D, with der(v) = (the unknown der(v)); every other unknown is
 algebraic. The variant's functions are the universal ones with their inputs permuted (CasADi
-inlines them: no compiler, no sympy), and its monitored levels (`state_sets`) follow the choice as
-the compiled variants' do (compiler/lower/state_set_variants.py): the levels of the selection
+inlines them: no compiler, no sympy), and its monitored levels (`state_sets`) follow the choice by
+the rules the compiled variants' do (selection_rules.may_degrade): the levels of the selection
 layout whose candidates outnumber their rows and whose chosen pivot block depends on the unknowns.
 So a generated module switches to every state set the in-process run reaches.
 """
@@ -18,7 +18,8 @@ import casadi as ca
 
 from .model import CompiledModel
 from . import variants
-from .variants import DUMMIES, SELECTION, folds_by_name, propagating, selection_output
+from .selection_rules import folded_level, may_degrade, next_candidates, watched_level
+from .variants import DUMMIES, SELECTION, selection_output
 
 UNIVERSAL = "universal_system"          # metadata written by compiler/lower/universal_variant.py
 ZERO = "__zero"                         # an output that is 0: a structurally zero Jacobian entry
@@ -67,7 +68,7 @@ def variant_of(universal: CompiledModel, dummies: frozenset[str], selection: Map
         time_events=universal.time_events, time_event_labels=universal.time_event_labels,
         metadata={**{k: v for k, v in universal.metadata.items() if k != UNIVERSAL},
                   DUMMIES: sorted(dummies), SELECTION: dict(selection)})
-    levels = monitored_levels(selection, dummies, info.get("stand_ins", ()), output_names, values,
+    levels = watched_levels(selection, dummies, info.get("stand_ins", ()), output_names, values,
                               ca.vertcat(x, z, t))
     return model.replace(state_sets=levels)
 
@@ -117,54 +118,36 @@ def explicit_unknowns(residuals: ca.SX, symbols: list) -> tuple[list[int], ca.SX
     return kept, (ca.vertcat(*remaining) if remaining else ca.SX(0, 1)), solved
 
 
-def monitored_levels(selection: Mapping, dummies: frozenset[str], stand_in_pairs, output_names: list[str],
+def watched_levels(selection: Mapping, dummies: frozenset[str], stand_in_pairs, output_names: list[str],
                      values: ca.SX, varying_in: ca.SX) -> list[dict]:
     """The levels of the choice `dummies` that can degrade, in the runtime's plain form
-    (CompiledModel.state_sets): a level's rows without its alias rows, its candidates without the
-    folded w columns, and only where there are more candidates than rows, the chosen block depends
-    on the unknowns or time (stand-ins for a kept state aside), and not only a hinted state could
-    take over. `varying`: the unknowns and time, as symbols of `values`."""
+    (CompiledModel.state_sets): each level folded (selection_rules.folded_level) and watched
+    where selection_rules.may_degrade says so, an entry varying where its output depends on
+    `varying_in` (the unknowns and time, as symbols of `values`)."""
     at = {name: i for i, name in enumerate(output_names)}
     levels = selection["levels"]
     candidates = set(levels[0]["order"]) if levels else set()
     out = []
     for k, level in enumerate(levels):
         order = [c for c in level["order"] if c in candidates]
-        partner = folds_by_name(level, order)
-        fold_rows = {int(r) for r, u, w in level.get("folds", ()) if u in partner and partner[u] == w}
+        folds = variants.level_folds(level, order)
         chosen = [c for c in order if c in dummies]
-        taken = set(chosen)
-        rows = [i for i in range(int(level["rows"])) if i not in fold_rows]
-        folded = [c for c in order if c not in partner.values()]
-        folded_chosen = [c for c in chosen if c not in partner.values() and
-                         (c not in partner or partner[c] in taken)]
+        folded = folded_level(range(int(level["rows"])), order, chosen, [(int(r), u, w) for r, u, w in folds])
         priority = level["priority"]
-        if len(folded) > len(rows):
-            kept = [c for c in folded if c not in folded_chosen]
-            kept_set = set(kept)
-            stand_ins = {b for a, b in stand_in_pairs if a in kept_set}
-            entry = {(i, c): at.get(selection_output(k, i, c), at[ZERO]) for i in rows for c in folded}
-            varying = [c for c in folded_chosen if c not in stand_ins and any(
-                ca.depends_on(values[entry[(i, c)]], varying_in) for i in rows)]
-            if varying and not (kept and min(priority[c] for c in kept) > max(priority[c] for c in varying)):
-                classes: dict[int, list[int]] = {}
-                for j in sorted(range(len(folded)), key=lambda j: (priority[folded[j]], j)):
-                    classes.setdefault(priority[folded[j]], []).append(j)
-                out.append({"rows": len(rows), "candidates": folded,
-                            "chosen": [folded.index(c) for c in folded_chosen],
-                            "classes": list(classes.values()),
-                            "entries": [entry[(i, c)] for i in rows for c in folded]})
-        candidates = {level["next"][c] for c in propagating(chosen, partner) if c in level["next"]}
+
+        def entry(i: int, c: str, k=k) -> int:
+            return at.get(selection_output(k, i, c), at[ZERO])
+
+        def varies(c: str) -> bool:
+            return any(ca.depends_on(values[entry(i, c)], varying_in) for i in folded.rows)
+
+        if may_degrade(len(folded.rows), folded.candidates, folded.chosen, priority, stand_in_pairs, varies):
+            out.append(watched_level(len(folded.rows), folded.candidates,
+                                     [folded.candidates.index(c) for c in folded.chosen],
+                                     [priority[c] for c in folded.candidates],
+                                     [entry(i, c) for i in folded.rows for c in folded.candidates]))
+        candidates = next_candidates(chosen, {u: w for _, u, w in folds}, level["next"])
     return out
-
-
-def simulate(model: CompiledModel, stop: float | None = None, *, switcher=None, **settings):
-    """variants.simulate (the driver's arguments); a model that carries its universal system
-    instead of its variants switches among the state sets made from it."""
-    if switcher is None and model.universal is not None and not model.variants \
-            and SELECTION in model.metadata:
-        switcher = UniversalSwitcher(model)
-    return variants.simulate(model, stop, switcher=switcher, **settings)
 
 
 class UniversalSwitcher:

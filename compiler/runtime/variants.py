@@ -1,10 +1,10 @@
 """Switching among the state-set variants a compiled model carries (`CompiledModel.variants`).
 
-Every state set a run can reach is derived once, at compile time (compiler/lower/state_set_enumeration.py),
-and travels with the model; where the current set degrades, the run continues in the variant whose
-dummy derivatives the numerical choice selects at that point. The choice is the compiler's own
-dummy-derivative selection (compiler/structure/dummy_derivatives.py) made again here, with the
-runtime only:
+Every state set a run can reach is derived once, at compile time
+(compiler/structure/state_selection/enumeration.py), and travels with the model; where the current
+set degrades, the run continues in the variant whose dummy derivatives the numerical choice selects
+at that point. The choice is the compiler's own dummy-derivative selection made again here, with
+the runtime only (the rules both use are in selection_rules.py):
 
 Level by level, from the most-differentiated constraints down, pivoting (`pivoted_columns`) over the
 level's Jacobian with respect to its candidate derivatives picks as many columns as the level has
@@ -20,10 +20,9 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from . import driver
 from .errors import SimulationFailed
 from .model import CompiledModel
-from .state_sets import pivoted_columns
+from .selection_rules import level_choice, next_candidates, present_folds
 
 SELECTION = "state_selection"        # metadata: {"public": [...], "levels": [...]}, see dummy_choice
 DUMMIES = "dummy_derivatives"        # metadata: this variant's dummy derivatives (sorted names)
@@ -40,9 +39,9 @@ def dummy_choice(levels: Sequence[Mapping], values: Mapping[str, float]) -> froz
 
     A level is {"rows": n, "order": candidate names in the compiler's order of preference,
     "priority": {name: state priority}, "next": {name: its candidate on the next level}, "folds":
-    [[row, u, w], ...] its alias rows (compiler/lower/state_set_folds.py; a fold counts where u and
-    w are both candidates)}; the first level's candidates are all of its `order`. An entry without
-    an output is structurally zero."""
+    [[row, u, w], ...] its alias rows (compiler/structure/state_selection/folds.py; a fold counts
+    where u and w are both candidates)}; the first level's candidates are all of its `order`. An
+    entry without an output is structurally zero."""
     candidates = set(levels[0]["order"]) if levels else set()
     dummies: list[str] = []
     given = _selection_entries(values)
@@ -55,21 +54,20 @@ def dummy_choice(levels: Sequence[Mapping], values: Mapping[str, float]) -> froz
             j = column.get(name)
             if j is not None and i < rows:
                 matrix[i, j] = float(value)
-        classes: list[list[int]] = []
-        for j, name in enumerate(order):      # priority classes are consecutive runs of `order`
-            if j == 0 or level["priority"][name] != level["priority"][order[j - 1]]:
-                classes.append([])
-            classes[-1].append(j)
-        at = {name: j for j, name in enumerate(order)}
-        folds = [(int(r), at[u], at[w]) for r, u, w in level.get("folds", ()) if u in at and w in at]
-        picked = pivoted_columns(matrix, classes, rows, folds=folds)
+        folds = level_folds(level, order)
+        picked = level_choice(matrix, [level["priority"][name] for name in order], rows,
+                              folds=[(int(r), column[u], column[w]) for r, u, w in folds])
         if len(picked) < rows:
             return None
         chosen = [order[j] for j in picked]
         dummies.extend(chosen)
-        candidates = {level["next"][c] for c in propagating(chosen, folds_by_name(level, order))
-                      if c in level["next"]}
+        candidates = next_candidates(chosen, {u: w for _, u, w in folds}, level["next"])
     return frozenset(dummies)
+
+
+def level_folds(level: Mapping, order: Sequence[str]) -> list[tuple]:
+    """The alias folds (row, u, w) of a selection level that count among the candidates `order`."""
+    return present_folds(level.get("folds", ()), order)
 
 
 def _selection_entries(values: Mapping[str, float]) -> dict[int, list[tuple[int, str, float]]]:
@@ -86,25 +84,6 @@ def _selection_entries(values: Mapping[str, float]) -> dict[int, list[tuple[int,
     return found
 
 
-def folds_by_name(level: Mapping, order: Sequence[str]) -> dict[str, str]:
-    """u -> w for the level's folds that count among the candidates `order`."""
-    present = set(order)
-    return {u: w for _, u, w in level.get("folds", ()) if u in present and w in present}
-
-
-def propagating(chosen: Sequence[str], partner: Mapping[str, str]) -> list[str]:
-    """The chosen columns whose next-level versions are the next level's candidates: a folded u
-    only where its w is chosen too (x and vx are dummies together, as if vx were der(x))."""
-    taken = set(chosen)
-    return [c for c in chosen if c not in partner or partner[c] in taken]
-
-
-def simulate(model: CompiledModel, stop: float | None = None, *, switcher=None, **settings):
-    """The driver's simulate (driver.simulate: same arguments); a model that carries its state-set
-    variants switches among them unless the caller gives another switcher."""
-    if switcher is None and model.variants:
-        switcher = VariantSwitcher(model)
-    return driver.simulate(model, stop, switcher=switcher, **settings)
 
 
 def variant_models(model: CompiledModel) -> dict[frozenset, CompiledModel]:
@@ -116,9 +95,10 @@ def variant_models(model: CompiledModel) -> dict[frozenset, CompiledModel]:
 
 class VariantSwitcher:
     """The runtime's StateSetSwitcher for a model that carries its variants: at the switch point,
-    the variant of the dummy derivatives `dummy_choice` selects. `fallback` (a StateSetSwitcher, say
-    the compiler's lazy one) is asked for a choice that is none of the variants, which can happen
-    only where a parameter value changed a choice the compiler took as constant."""
+    the variant of the dummy derivatives `dummy_choice` selects. `fallback` (another
+    StateSetSwitcher) is asked for a choice that is none of the variants, which can happen only
+    where a parameter value changed a choice the compiler took as constant; without one the run
+    stops there with SimulationFailed."""
 
     def __init__(self, model: CompiledModel, fallback=None):
         selection = model.metadata.get(SELECTION)

@@ -1,4 +1,4 @@
-"""`dyadc test`: golden-trajectory tests declared in component metadata.
+"""Golden-trajectory tests declared in component metadata (`dyadc test`).
 
 A case (see compiler.testing.golden_cases) is simulated at its production tolerance and compared, signal
 by signal, with the golden CSV <golden_dir>/<QualifiedModelName>.<case>.csv inside a tube
@@ -14,9 +14,8 @@ from __future__ import annotations
 
 import os
 import shlex
-import sys
 import time
-from typing import Sequence
+from typing import Callable, Sequence
 
 from compiler.errors import DyadError
 from compiler.testing.golden_cases import TestCase, cases_from_metadata, discover, parse_span_text
@@ -204,14 +203,15 @@ def _cases_by_model(lib_dirs: Sequence[str]) -> dict[str, list[TestCase]]:
 
 def run_tests(model_spec: str | None, lib_dirs: Sequence[str] = (), *,
               golden_dir: str | os.PathLike = DEFAULT_GOLDEN_DIR, accept: bool = False,
-              out=None) -> list[CaseReport]:
+              on_report: Callable[[CaseReport], None] | None = None) -> list[CaseReport]:
     """Run (or with `accept`, write the goldens of) every case of one model, or without a model
     every case of the named libraries (see _cases_by_model). A model named explicitly that fails
     to flatten or declares no cases is an error; during discovery a model that fails to flatten
-    fails its cases and the others still run. A model that does not compile fails its cases."""
+    fails its cases and the others still run. A model that does not compile fails its cases.
+    `on_report` is called with each case's report as soon as it is made."""
     from compiler.pipeline import flatten_spec
 
-    out = out or sys.stdout
+    show = on_report or (lambda report: None)
     reports: list[CaseReport] = []
     if model_spec is not None:
         compilation = PendingCompilation(*flatten_spec(model_spec, lib_dirs))
@@ -230,7 +230,7 @@ def run_tests(model_spec: str | None, lib_dirs: Sequence[str] = (), *,
             except DyadError as err:
                 for case in cases:
                     reports.append(CaseReport(case, error=f"cannot compile {model}: {err.format()}"))
-                    print(reports[-1].format(), file=out, flush=True)
+                    show(reports[-1])
     for spec, compilation, cases in targets:
         said: set[str] = set()              # a model's notes are printed once, not once per case
         for case in cases:
@@ -240,7 +240,7 @@ def run_tests(model_spec: str | None, lib_dirs: Sequence[str] = (), *,
                 report = run_case(compilation, case, golden_dir, spec, lib_dirs)
             report.notes = [note for note in report.notes if note not in said]
             said.update(report.notes)
-            print(report.format(verbose=not accept), file=out, flush=True)
+            show(report)
             reports.append(report)
     return reports
 
@@ -248,24 +248,3 @@ def run_tests(model_spec: str | None, lib_dirs: Sequence[str] = (), *,
 def _qualified_name(spec: str, lib_dirs: Sequence[str]) -> str:
     from compiler.model.library import load_model
     return load_model(spec, lib_dirs)[2]
-
-
-def main_test(model_spec: str | None, lib_dirs: Sequence[str] = (), *,
-              golden_dir: str | os.PathLike | None = None, accept: bool = False) -> int:
-    """Entry point of `dyadc test [MODEL] [-L DIR] [--golden DIR] [--accept]`: prints results,
-    returns 0 when every case passed (or every golden was written) and 1 otherwise, including
-    when there was nothing to test."""
-    golden_dir = DEFAULT_GOLDEN_DIR if golden_dir is None else golden_dir
-    try:
-        reports = run_tests(model_spec, lib_dirs, golden_dir=golden_dir, accept=accept)
-    except DyadError as err:
-        print(err.format(), file=sys.stderr)
-        return 1
-    if not reports:
-        print("no test cases found (metadata {\"Dyad\": {\"tests\": ...}} in the libraries named "
-              "with -L or DYADC_PATH, or else in the shipped library)", file=sys.stderr)
-        return 1
-    failed = [r for r in reports if not r.passed]
-    verb = "accepted" if accept else "passed"
-    print(f"{len(reports) - len(failed)} {verb}, {len(failed)} failed", flush=True)
-    return 1 if failed else 0

@@ -28,6 +28,8 @@ SAMPLE_ARGUMENTS = {
     "animate": ["animate", "M", "--stop", "1", "--fps", "5"],
     "cache": ["cache", "info"],
     "generate": ["generate", "-o", "g"],
+    "linearize": ["linearize", "M", "--inputs", "u", "--outputs", "y", "z", "--at", "1", "--op", "u=1",
+                  "-p", "a=1", "--open", "u", "--minimal", "--output", "l.json"],
 }
 
 

@@ -10,7 +10,7 @@ import pytest
 
 import compiler.pipeline
 from compiler.cli import main
-from compiler.cli_options import parse_saveat
+from compiler.cli.options import parse_saveat
 from compiler.lower.generate import module_name
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -144,3 +144,52 @@ def test_analyses_dyadc_cannot_run_are_located_errors(library, capsys, name, wor
         header = _line(library, f"analysis {name}")
         assert any(f"Runs.dyad:{line}:" in err.splitlines()[0] for line in (header, header + 1))
     assert not list(library.parent.glob("*.csv"))
+
+
+GUARDED = '''
+analysis Huge
+  extends TransientAnalysis(stop = 9^9^9)
+  model = Discharge()
+end
+
+analysis Circular
+  extends TransientAnalysis(stop = a)
+  parameter a::Real = 2 * b
+  parameter b::Real = a
+  model = Discharge()
+end
+
+analysis Worded
+  extends TransientAnalysis(stop = "ten")
+  model = Discharge()
+end
+'''
+
+
+def test_analysis_fields_go_through_the_guarded_evaluator(library):
+    """`stop = 9^9^9` is refused at once, as the same expression in a parameter is, at the power
+    (in a subprocess with a timeout: an unguarded evaluator folds 9^(9^9) exactly for minutes)."""
+    import subprocess
+    import sys
+    library.write_text(LIBRARY + GUARDED)
+    done = subprocess.run([sys.executable, "-m", "compiler", "run", f"{library}:Huge"],
+                          capture_output=True, text=True, timeout=60, cwd=library.parent)
+    assert done.returncode == 1
+    first = done.stderr.splitlines()[0]
+    line = _line(library, "stop = 9^9^9")
+    column = library.read_text().splitlines()[line - 1].index("9^9^9") + 1
+    assert first.endswith(f"Runs.dyad:{line}:{column}: error: the power 9^387420489 is too large: "
+                          f"about 10^369,693,099, beyond a 64-bit float (at most about 1.8e308)")
+    assert "Traceback" not in done.stderr
+
+
+@pytest.mark.parametrize("name, words, at", [
+    ("Circular", "analysis parameters refer to each other in a cycle", "parameter b::Real = a"),
+    ("Worded", "`stop` of analysis `Worded` must be a number", 'stop = "ten"'),
+])
+def test_bad_analysis_fields_are_located_errors(library, capsys, name, words, at):
+    library.write_text(LIBRARY + GUARDED)
+    assert main(["run", f"{library}:{name}"]) == 1
+    first = capsys.readouterr().err.splitlines()[0]
+    assert first.endswith(f"error: {words}")
+    assert f"Runs.dyad:{_line(library, at)}:" in first

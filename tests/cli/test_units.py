@@ -1,11 +1,11 @@
-"""compiler.model.units: the unit strings of the library and of `-p NAME=VALUE UNIT` read and convert."""
+"""compiler.units.system: the unit strings of the library and of `-p NAME=VALUE UNIT` read and convert."""
 import math
 import re
 from pathlib import Path
 
 import pytest
 
-from compiler.model.units import UnitError, conversion_factor, parse_unit
+from compiler.units.system import UnitError, conversion_factor, parse_unit
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -94,3 +94,21 @@ def test_a_unit_with_an_offset_converts_only_to_itself():
     assert conversion_factor("degC", "degC") == 1.0
     with pytest.raises(UnitError, match="offset"):
         conversion_factor("degC", "K")
+
+
+def test_a_temperature_in_degrees_celsius_sets_a_kelvin_parameter(tmp_path, capsys):
+    from compiler.cli import run_command
+    model = tmp_path / "Heated.dyad"
+    model.write_text("component Heated\n  parameter T0::Temperature = 300\n  variable T::Temperature\n"
+                     "relations\n  T = T0\nend\n")
+    out = tmp_path / "out.csv"
+    assert run_command(["simulate", str(model), "--stop", "0.1", "-p", "T0=20degC",
+                        "--output", str(out)]) == 0
+    header, first = out.read_text().splitlines()[:2]
+    assert float(first.split(",")[header.split(",").index("T")]) == pytest.approx(293.15, abs=1e-9)
+
+
+def test_conversions_and_the_unit_check_read_units_with_one_parser():
+    from compiler.units import system
+    assert system.parse_unit("N.m/A").consistent_with(system.parse_unit("V.s/rad"))
+    assert conversion_factor("kN.m", "N.m") == pytest.approx(1e3)

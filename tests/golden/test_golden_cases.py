@@ -112,13 +112,14 @@ def test_update_refuses_to_write_when_the_final_value_disagrees(decay):
     assert os.listdir(directory) == []
 
 
-def test_main_test_exit_status_and_explicit_accept(decay, capsys):
+def test_dyadc_test_exit_status_and_explicit_accept(decay, capsys):
+    from compiler.cli import main
     _, _, directory = decay
-    assert golden.main_test(DECAY, [], golden_dir=directory) == 1
+    assert main(["test", DECAY, "--golden", str(directory)]) == 1
     assert os.listdir(directory) == []
-    assert golden.main_test(DECAY, [], golden_dir=directory, accept=True) == 0
+    assert main(["test", DECAY, "--golden", str(directory), "--accept"]) == 0
     assert os.listdir(directory) == ["Decay.decay.csv"]
-    assert golden.main_test(DECAY, [], golden_dir=directory) == 0
+    assert main(["test", DECAY, "--golden", str(directory)]) == 0
     out = capsys.readouterr().out
     assert "1 passed, 0 failed" in out and "1 accepted, 0 failed" in out
 
@@ -126,7 +127,8 @@ def test_main_test_exit_status_and_explicit_accept(decay, capsys):
 def test_a_model_without_cases_is_an_error(tmp_path, capsys):
     model = tmp_path / "Plain.dyad"
     model.write_text("component Plain\n  variable x::Real\nrelations\n  initial x = 1\n  der(x) = -x\nend\n")
-    assert golden.main_test(str(model), [], golden_dir=tmp_path) == 1
+    from compiler.cli import main
+    assert main(["test", str(model), "--golden", str(tmp_path)]) == 1
     assert "declares no test cases" in capsys.readouterr().err
 
 

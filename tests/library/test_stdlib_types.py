@@ -1,5 +1,5 @@
 """The standard package `Dyad` (components/Dyad/): its quantity types and connectors parse, are
-defined once, carry units that compiler.model.units reads, cover every base type the published Dyad
+defined once, carry units that compiler.units.system reads, cover every base type the published Dyad
 libraries use, and are found from any package by their plain name."""
 from __future__ import annotations
 
@@ -10,7 +10,7 @@ import pytest
 from compiler.api import flatten
 from compiler.syntax import ast
 from compiler.syntax.parser import parse_file
-from compiler.model.units import UnitError, parse_unit
+from compiler.units.system import UnitError, parse_unit
 
 DYAD = Path(__file__).resolve().parents[2] / "components" / "Dyad"
 
@@ -90,9 +90,11 @@ component UsesBaseConnectors
   parameter v0::Voltage = 3
   "a quantity type from another domain file"
   parameter q0::MagneticFlux = 2
+  "a length"
+  parameter s0::Length = 2
 relations
   pin.v = v0
-  flange.s = q0
+  flange.s = s0
   spline.phi = 1
   port.T = 300
   node.T = 310
@@ -108,4 +110,4 @@ def test_connectors_and_types_resolve_from_any_package_with_their_fields_and_uni
     assert units == {"pin.v": "V", "pin.i": "A", "flange.s": "m", "flange.f": "N",
                      "spline.phi": "rad", "spline.tau": "N.m", "port.T": "K",
                      "port.Q_flow": "W", "node.T": "K", "node.Q": "W"}
-    assert {p.name: p.units for p in flat.parameters} == {"v0": "V", "q0": "Wb"}
+    assert {p.name: p.units for p in flat.parameters} == {"v0": "V", "q0": "Wb", "s0": "m"}

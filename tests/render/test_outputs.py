@@ -8,6 +8,7 @@ import pytest
 from PIL import Image
 
 from compiler import api
+from compiler.cli import main
 from compiler.errors import DyadError
 from compiler.render import animate, scene_outputs
 from compiler.runtime.writers import atomic_write
@@ -62,17 +63,19 @@ def test_soil_slab_is_painted_in_its_colour_below_the_surface(excavator, excavat
     assert near.mean() > 0.05
 
 
-def test_main_animate_writes_the_pendulum_gif(tmp_path, capsys):
+def test_dyadc_animate_writes_the_pendulum_gif(tmp_path, capsys):
     target = tmp_path / "pendulum.gif"
-    assert animate.main_animate("ComponentTests.Pendulum", [str(MODELS)], 1.0, str(target), frames=8) == 0
+    assert main(["animate", "ComponentTests.Pendulum", "-L", str(MODELS), "--stop", "1", "--output",
+                 str(target), "--frames", "8"]) == 0
     assert len(frames_of(target)) == 8
     assert "pendulum.gif" in capsys.readouterr().out
 
 
-def test_main_animate_refuses_a_model_without_drawable_parts(tmp_path):
+def test_dyadc_animate_refuses_a_model_without_drawable_parts(tmp_path, capsys):
     target = tmp_path / "valve.gif"
-    with pytest.raises(DyadError, match="nothing to draw"):
-        animate.main_animate("ComponentTests.ValveFlow", [str(MODELS)], 0.5, str(target), frames=3)
+    assert main(["animate", "ComponentTests.ValveFlow", "-L", str(MODELS), "--stop", "0.5", "--output",
+                 str(target), "--frames", "3"]) == 1
+    assert "nothing to draw" in capsys.readouterr().err
     assert not target.exists()
 
 
@@ -97,16 +100,15 @@ def test_written_file_gets_the_usual_permissions_not_the_private_temporary_ones(
     assert target.stat().st_mode & 0o777 == 0o644
 
 
-def test_scene_outputs_writes_csv_png_and_gif(excavator, monkeypatch, tmp_path, capsys):
+def test_scene_outputs_writes_csv_png_and_gif(excavator, monkeypatch, tmp_path):
     monkeypatch.setattr(api, "compile", lambda spec, lib_dirs=(): excavator)
     monkeypatch.setattr(scene_outputs, "STOP_TIME", 0.5)
     monkeypatch.setattr(scene_outputs, "POINTS", 6)
     monkeypatch.setattr(scene_outputs, "FRAMES", 3)
-    assert scene_outputs.main_scene_outputs(str(tmp_path)) == 0
+    lines = scene_outputs.write_scene_outputs(str(tmp_path))
     assert sorted(os.listdir(tmp_path)) == ["excavator.csv", "excavator.csv.json", "excavator.gif",
                                             "excavator.png"]
     header = (tmp_path / "excavator.csv").read_text().splitlines()[0].split(",")
     assert header[0] == "time" and "soil.m_load" in header and len(header) > 600
     assert len(frames_of(tmp_path / "excavator.gif")) == 3
-    out = capsys.readouterr().out
-    assert "payload at t = 0.5 s" in out and "max penetration soil.d" in out
+    assert lines[-1].startswith("payload at t = 0.5 s") and "max penetration soil.d" in lines[-1]

@@ -25,7 +25,7 @@ def test_the_level_matrix_is_the_one_every_name_looks_up(monkeypatch):
             if rng.random() < 0.6:
                 values[selection_output(0, i, name)] = float(rng.standard_normal())
     seen = []
-    monkeypatch.setattr(variants, "pivoted_columns",
-                        lambda matrix, classes, rows, folds=(): seen.append(matrix.copy()) or list(range(rows)))
+    monkeypatch.setattr(variants, "level_choice",
+                        lambda matrix, priorities, rows, folds=(): seen.append(matrix.copy()) or list(range(rows)))
     assert dummy_choice(levels, values) == frozenset(names[:3])
     np.testing.assert_array_equal(seen[0], looked_up(levels, values, 0, names))

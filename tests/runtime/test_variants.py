@@ -1,5 +1,7 @@
 """State-set variants derived at compile time and carried by the compiled model
-(compiler/lower/state_set_enumeration.py, compiler/runtime/variants.py)."""
+(compiler/structure/state_selection/enumeration.py, compiler/lower/state_set_variants.py,
+compiler/runtime/variants.py), and over the limit the universal system in their place
+(compiler/lower/universal_variant.py, compiler/runtime/universal.py)."""
 import dataclasses
 import json
 import warnings
@@ -9,8 +11,8 @@ import numpy as np
 import pytest
 
 from compiler import api, runtime
-from compiler.lower.state_set_enumeration import VariantLimitWarning, with_variants
-from compiler.lower.state_set_variants import Switcher, build_variant
+from compiler.lower.state_set_variants import VariantLimitWarning, build_variant, with_variants
+from compiler.lower.universal_variant import with_universal
 from compiler.runtime.variants import DUMMIES
 
 MODELS = Path(__file__).resolve().parents[1] / "models"
@@ -23,7 +25,7 @@ def compilation():
 
 
 def test_the_pendulum_carries_its_two_state_sets(compilation):
-    # the alias rows der(der(x)) - der(u) = 0 are folded (state_set_folds.py): x and u are states
+    # the alias rows der(der(x)) - der(u) = 0 are folded (state_selection/folds.py): x and u are states
     # together or dummies together, so the choice is one of the rod's two coordinates
     model = compilation.model
     assert len(model.variants) == 1                     # and the first one, the model itself
@@ -60,20 +62,6 @@ def test_a_model_of_the_previous_format_still_reads(compilation):
     assert runtime.CompiledModel.from_dict(data).variants == {}
 
 
-def test_the_carried_variants_are_the_ones_the_lazy_switcher_builds(compilation):
-    """The run with the carried variants and a run whose switcher builds each state set when it
-    reaches it (the lazy Switcher of a model over the limit) switch at the same times to the same
-    sets, with the same values."""
-    carried = runtime.simulate(compilation.model, 6.0, rtol=1e-8, atol=1e-8, points=61)
-    alone = compilation.model.replace(variants={})
-    lazy = Switcher(compilation.flat, compilation.analysis,
-                    dataclasses.replace(compilation.variant, model=alone, siblings={}), alone)
-    redone = runtime.simulate(alone, 6.0, rtol=1e-8, atol=1e-8, points=61, switcher=lazy)
-    assert len(carried.switches) >= 8
-    assert [(s["time"], s["to"]) for s in carried.switches] == [(s["time"], s["to"]) for s in redone.switches]
-    assert np.array_equal(carried.values, redone.values)
-
-
 def test_over_the_limit_the_model_carries_one_state_set_and_says_so(compilation):
     root = build_variant(compilation.flat, compilation.analysis, None,
                          reduced=compilation.reduced, report=compilation.report)
@@ -85,12 +73,17 @@ def test_over_the_limit_the_model_carries_one_state_set_and_says_so(compilation)
     assert kept.model.variants == {}
     with pytest.raises(runtime.SimulationFailed, match="carries one state set"):
         runtime.simulate(kept.model, 2.0, rtol=1e-8, atol=1e-8, points=21)
-    # in-process, the lazy switcher still runs it
-    over = dataclasses.replace(compilation, model=kept.model, variant=kept)
+    # the pipeline gives such a model its universal system: in-process, as in generated code, the
+    # run switches among the state sets made from it, at the times and to the sets of the carried ones
+    over = dataclasses.replace(compilation, model=with_universal(compilation.analysis, kept).model, variant=kept)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        result = api.simulate_compiled(over, 2.0, rtol=1e-8, atol=1e-8, points=21)
-    assert len(result.switches) >= 3
+        made = api.simulate_compiled(over, 2.0, rtol=1e-8, atol=1e-8, points=21)
+    carried = api.simulate_compiled(compilation, 2.0, rtol=1e-8, atol=1e-8, points=21)
+    assert len(made.switches) >= 3
+    assert [s["to"] for s in made.switches] == [s["to"] for s in carried.switches]
+    assert np.allclose([s["time"] for s in made.switches], [s["time"] for s in carried.switches], rtol=0, atol=1e-6)
+    assert np.max(np.abs(made["x"] - carried["x"])) < 1e-6
 
 
 def test_a_five_body_cartesian_chain_is_over_the_limit_and_says_how_far(tmp_path):
@@ -101,21 +94,3 @@ def test_a_five_body_cartesian_chain_is_over_the_limit_and_says_how_far(tmp_path
                                                  r"more than the 64 compiled with it"):
         compiled = api.compile(str(path))
     assert compiled.dynamic and compiled.model.variants == {}
-
-
-def test_a_chain_over_the_limit_switches_in_process_as_with_its_variants(tmp_path):
-    """Without its carried variants (as over the limit) a 3-body chain run in-process makes the same
-    run-time choice (the lazy Switcher builds what it reaches) as with them."""
-    from tests.hard.cartesian_chain import dyad_source
-    path = tmp_path / "CartesianChain3.dyad"
-    path.write_text(dyad_source(3, [1.3] * 3))
-    compiled = api.compile(f"{path}:CartesianChain3")
-    assert len(compiled.model.variants) == 13
-    carried = api.simulate_compiled(compiled, 1.5, rtol=1e-9, atol=1e-9, points=151)
-    alone = compiled.model.replace(variants={})
-    lazy = dataclasses.replace(compiled, model=alone, variant=dataclasses.replace(compiled.variant, model=alone,
-                                                                                  siblings={}))
-    redone = api.simulate_compiled(lazy, 1.5, rtol=1e-9, atol=1e-9, points=151)
-    assert len(carried.switches) >= 3
-    assert [(s["time"], s["to"]) for s in carried.switches] == [(s["time"], s["to"]) for s in redone.switches]
-    assert np.array_equal(carried.values, redone.values)

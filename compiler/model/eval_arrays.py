@@ -1,0 +1,89 @@
+"""Arrays the evaluator builds from expressions: ranges (`1:n`, Julia's float ranges), array
+and matrix literals, comprehensions, and the values a `for` loop runs through.
+
+Each function takes the evaluator as its last argument (as the forms of builtins.py do), so this
+module does not import compiler/model/expressions.py, which dispatches to it.
+"""
+from __future__ import annotations
+
+from typing import Any, Callable
+
+import numpy as np
+import sympy
+
+from compiler.errors import DyadError
+from compiler.model.arithmetic import stack
+from compiler.model.eval_scope import EvalScope, Mode
+from compiler.model.eval_values import numeric, structural_int
+from compiler.model.functions import as_array, is_array
+from compiler.model.ranges import float_range, is_fractional
+from compiler.model.size_limits import check_elements, range_length
+from compiler.syntax import ast
+
+Evaluate = Callable[[ast.Expr, EvalScope, Mode], Any]
+
+
+def iteration_values(expr: ast.Expr, scope: EvalScope, evaluate: Evaluate) -> list[Any]:
+    """The values a `for` iterator runs through (structural)."""
+    value = evaluate(expr, scope, Mode.STRUCTURAL)
+    if is_array(value):
+        return list(value.ravel())
+    raise DyadError("a `for` loop needs a range or an array to iterate over",
+                    getattr(expr, "span", None))
+
+
+def range_value(expr: ast.Range, scope: EvalScope, mode: Mode,
+                evaluate: Evaluate) -> Any:
+    """`start:stop` or `start:step:stop`: integers, or Julia's floats when a bound is fractional."""
+    bounds = [None if part is None else evaluate(part, scope, Mode.STRUCTURAL)
+              for part in (expr.start, expr.step, expr.stop)]
+    if any(is_fractional(bound) for bound in bounds):      # `0:0.1:1`: Julia's float range
+        return as_array(float_range(*bounds, expr.span))
+    start = structural_int(bounds[0], expr.span, "a range bound")
+    stop = structural_int(bounds[2], expr.span, "a range bound")
+    step = 1
+    if expr.step is not None:
+        step = structural_int(bounds[1], expr.span, "a range step")
+        if step == 0:
+            raise DyadError("a range step cannot be zero", expr.span)
+    check_elements(range_length(start, stop, step), expr.span, "this range")
+    return as_array([sympy.Integer(i) for i in range(start, stop + (1 if step > 0 else -1), step)])
+
+
+def array_literal(expr: ast.ArrayLit, scope: EvalScope, mode: Mode,
+                  evaluate: Evaluate) -> Any:
+    """`[a, b]` (elements stacked) or `[a b; c d]` (a matrix, rows of equal length)."""
+    if expr.is_matrix:
+        rows = []
+        for row in expr.elements:
+            items = row.elements if isinstance(row, ast.ArrayLit) else (row,)
+            values = []
+            for item in items:
+                v = numeric(evaluate(item, scope, mode), expr.span)
+                values.extend(v.ravel().tolist() if is_array(v) else [v])
+            rows.append(values)
+        if len({len(r) for r in rows}) > 1:
+            raise DyadError("the rows of a matrix literal have different lengths", expr.span)
+        out = np.empty((len(rows), len(rows[0]) if rows else 0), dtype=object)
+        for i, r in enumerate(rows):
+            for j, v in enumerate(r):
+                out[i, j] = v
+        return out
+    values = [numeric(evaluate(e, scope, mode), expr.span) for e in expr.elements]
+    return stack(values, expr.span)
+
+
+def comprehension(expr: ast.Comprehension, scope: EvalScope, mode: Mode,
+                  evaluate: Evaluate) -> Any:
+    """`[f(i, j) for i in r, j in s]`, bounded by the element limit."""
+    def expand(level: int, inner: EvalScope, outer: int) -> Any:
+        if level == len(expr.iterators):
+            return numeric(evaluate(expr.expr, inner, mode), expr.span)
+        it = expr.iterators[level]
+        values = iteration_values(it.iterable, inner, evaluate)
+        # nested iterators multiply: each level's range may be small, their product not
+        check_elements(outer * len(values), expr.span, "this comprehension")
+        items = [expand(level + 1, inner.bind(**{it.variable: v}), outer * len(values))
+                 for v in values]
+        return stack(items, expr.span)
+    return expand(0, scope, 1)

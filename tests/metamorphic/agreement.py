@@ -1,0 +1,141 @@
+"""Running a base model and a rewritten formulation of it, and judging whether they agree.
+
+The verdict must be the same: both run, or both stop with a located error. When both run, every
+variable they share (through the rewrite's renaming) is compared with a reference run of the
+base at rtol = atol = 1e-12, in units of the runs' tolerance:
+
+    error(run, v) = max over the grid of |run_v - ref_v| / (rtol * max|ref_v| + atol)
+
+The rewritten run may make at most FACTOR times the error the base run makes on the same variable
+(or on the worst variable of the same kind, whichever is larger, since the two formulations may
+choose different states) plus FLOOR tolerance units. Why these numbers: the two runs are the same
+integrator on the same solution with different step sequences (a rescaled equation changes the
+Newton iterates, a reordered one the pivoting, another state choice the error test). IDAS bounds
+only its local error, so each run's global error is a problem-dependent multiple of the tolerance,
+and that multiple varies between runs of equal merit by a small factor: over the fuzzed sample,
+the worst ratio of equivalent formulations is measured in docs/testing.md. A rewrite that changes
+the answer (a dropped term, a wrong sign, a lost digit in a literal) moves a variable by its whole
+size, 1e6 .. 1e8 tolerance units at the rtol used here.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+from pathlib import Path
+
+import numpy as np
+
+from compiler import api
+from compiler.errors import DyadError
+from compiler.syntax import ast
+from compiler.syntax.format import format_file
+from compiler.syntax.parser import parse_file
+from tests.metamorphic.corpus import Base
+
+FACTOR = 10.0
+FLOOR = 10.0
+REFERENCE_RTOL = 1e-12
+
+
+@dataclasses.dataclass
+class Outcome:
+    """A run's verdict: values per variable on the grid, or the located error it stopped with."""
+    values: dict[str, np.ndarray] | None
+    error: str | None
+    located: bool = False
+
+    @property
+    def ran(self) -> bool:
+        return self.values is not None
+
+
+def run(path: Path, base: Base, *rtols: float) -> list[Outcome]:
+    """The model of `path` compiled once and run at each of `rtols` (rtol = atol), as the base's
+    span and grid say. An internal error (not a DyadError) propagates: that is a finding too."""
+    try:
+        compilation = api.compile(str(path), lib_dirs=base.lib_dirs)
+    except DyadError as err:
+        return [_stopped(err)] * len(rtols)
+    outcomes = []
+    for rtol in rtols:
+        try:
+            result = api.simulate_compiled(compilation, base.stop, points=base.points, rtol=rtol, atol=rtol)
+        except DyadError as err:
+            outcomes.append(_stopped(err))
+            continue
+        outcomes.append(Outcome({name: np.asarray(result[name], dtype=float) for name in result.names}, None))
+    return outcomes
+
+
+def _stopped(err: DyadError) -> Outcome:
+    text = err.format()
+    return Outcome(None, text, located=err.span is not None or "error:" in text)
+
+
+def definition(file: ast.File, name: str) -> ast.ComponentDef:
+    (found,) = [d for d in file.definitions if isinstance(d, ast.ComponentDef) and d.name == name]
+    return found
+
+
+def write_variant(base: Base, component: ast.ComponentDef, folder: Path) -> Path:
+    """The base's file with `component` in place of its definition, reprinted by the project's
+    formatter, in `folder` under the same file name."""
+    file = parse_file(base.path)
+    definitions = tuple(component if d is definition(file, base.name) else d for d in file.definitions)
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / base.path.name
+    path.write_text(format_file(dataclasses.replace(file, definitions=definitions)), encoding="utf-8")
+    return path
+
+
+def original_name(name: str, renamed: dict[str, str]) -> str:
+    """The base's name of a variable of the rewritten model (`der(mm_x.y[1])` -> `der(x.y[1])`)."""
+    if name.startswith("der(") and name.endswith(")"):
+        return f"der({original_name(name[4:-1], renamed)})"
+    head, dot, rest = name.partition(".")
+    stem, bracket, index = head.partition("[")
+    return renamed.get(stem, stem) + bracket + index + dot + rest
+
+
+def _kind(name: str) -> str:
+    depth = 0
+    while name.startswith("der("):
+        name, depth = name[4:-1], depth + 1
+    return f"der{depth}"
+
+
+def errors(outcome: Outcome, reference: Outcome, rtol: float) -> dict[str, float]:
+    """error(run, v) per variable of `reference` the run has, in tolerance units."""
+    found = {}
+    for name, ref in reference.values.items():
+        values = outcome.values.get(name)
+        if values is None:
+            continue
+        scale = rtol * float(np.max(np.abs(ref))) + rtol
+        found[name] = float(np.max(np.abs(values - ref))) / scale
+    return found
+
+
+def disagreements(base_outcome: Outcome, variant: Outcome, reference: Outcome, renamed: dict[str, str],
+                  rtol: float) -> list[str]:
+    """What differs between the base run and the rewritten one (empty: they agree)."""
+    if base_outcome.ran != variant.ran:
+        said = variant.error if base_outcome.ran else "it ran"
+        return [f"verdicts differ: the base {'ran' if base_outcome.ran else 'stopped'}, the rewrite: {said}"]
+    if not base_outcome.ran:
+        return [] if variant.located == base_outcome.located else ["one error is located, the other not"]
+    translated = Outcome({original_name(n, renamed): v for n, v in variant.values.items()}, None)
+    base_errors = errors(base_outcome, reference, rtol)
+    variant_errors = errors(translated, reference, rtol)
+    worst_of_kind: dict[str, float] = {}
+    for name, value in base_errors.items():
+        worst_of_kind[_kind(name)] = max(worst_of_kind.get(_kind(name), 0.0), value)
+    found = []
+    for name, value in variant_errors.items():
+        allowed = FACTOR * max(base_errors.get(name, 0.0), worst_of_kind.get(_kind(name), 0.0)) + FLOOR
+        if not value <= allowed or not math.isfinite(value):
+            found.append(f"{name}: {value:.3g} tolerance units off the reference, the base {base_errors.get(name, 0):.3g}"
+                         f" (allowed {allowed:.3g})")
+    if not variant_errors:
+        found.append("no variable in common with the base")
+    return found
