@@ -50,28 +50,43 @@ def run(script: str, *args: str) -> dict:
     return json.loads(out.stdout)
 
 
-def main() -> None:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--repeats", type=int, default=7)
-    args = parser.parse_args()
+def measure(repeats: int) -> dict:
+    """Medians of `repeats` uncached compiles per mode, alternating, and the check's own time."""
     runs: dict[str, list[dict]] = {"off": [], "error": []}
-    for _ in range(args.repeats):
+    for _ in range(repeats):
         for mode in ("off", "error"):
             runs[mode].append(run(COMPILE, mode, EXCAVATOR))
-    print(f"excavator uncached compile, median of {args.repeats} fresh processes each "
-          f"(CPU time of the process; wall time in brackets, which other load on the machine moves):")
+    return {"repeats": repeats, "runs": runs, "check": run(CHECK_ONLY, EXCAVATOR, str(repeats))}
+
+
+def render(result: dict) -> str:
+    """A markdown section for docs/benchmarks.md (make bench) or the terminal."""
+    runs, repeats = result["runs"], result["repeats"]
+    lines = ["## Unit check cost (issue 26, item 9)", "",
+             f"Excavator uncached compile, median of {repeats} fresh processes per mode, alternating "
+             f"(CPU time of the process; wall time in brackets, which other load moves). Target: the "
+             f"check adds under 10 %.", "", "| mode | CPU | wall | each run (CPU) |", "| --- | --- | --- | --- |"]
     median = {}
     for mode in ("off", "error"):
         cpu = statistics.median(r["cpu"] for r in runs[mode])
         wall = statistics.median(r["seconds"] for r in runs[mode])
         median[mode] = cpu
         each = " ".join(f"{r['cpu']:.3f}" for r in runs[mode])
-        print(f"  --units {mode:5}  {cpu:.3f} s CPU  [{wall:.3f} s]   {each}")
+        lines.append(f"| `--units {mode}` | {cpu:.3f} s | {wall:.3f} s | {each} |")
     off, on = median["off"], median["error"]
-    print(f"  difference     {on - off:+.3f} s CPU ({(on - off) / off * 100:+.1f} %)")
-    check = run(CHECK_ONLY, EXCAVATOR, str(args.repeats))
-    print(f"  check_units alone: {check['cpu'] * 1e3:.1f} ms CPU "
-          f"({check['cpu'] / off * 100:.1f} % of the compile's CPU time), {check['findings']} findings")
+    check = result["check"]
+    met = "met" if on - off < 0.10 * off else "NOT met"
+    lines += ["", f"Difference {on - off:+.3f} s CPU ({(on - off) / off * 100:+.1f} %): {met}. "
+              f"`check_units` alone: {check['cpu'] * 1e3:.1f} ms CPU ({check['cpu'] / off * 100:.1f} % of "
+              f"the compile), {check['findings']} findings.", ""]
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=7)
+    args = parser.parse_args()
+    print(render(measure(args.repeats)))
 
 
 if __name__ == "__main__":

@@ -78,6 +78,8 @@ def main(argv: list[str]) -> int:
                                                                   "measurements of the issue-15 targets")
     parser.add_argument("--no-linear", action="store_true",
                         help="skip linearizing the excavator from the cache (bench_linearize.py, docs/analysis.md)")
+    parser.add_argument("--no-units", action="store_true",
+                        help="skip the unit check's cost on the excavator's uncached compile (bench_units.py)")
     parser.add_argument("--out", default=str(ROOT / "docs"), help="folder for benchmarks.md (PNGs go to <out>/benchmarks/)")
     args = parser.parse_args(argv)
     os.environ.setdefault("OMP_NUM_THREADS", "1")      # scipy/numpy threads would steal the other core
@@ -154,11 +156,16 @@ def main(argv: list[str]) -> int:
         log("== linearizing the excavator from the cache (its table goes into analysis.md)")
         import bench_linearize
         bench_linearize.main(["--repeats", "5" if args.quick else "15", "--doc", str(out / "analysis.md")])
+    units_section = ""
+    if not args.no_units:
+        log("== the unit check's cost on the excavator's uncached compile (bench_units.py)")
+        import bench_units
+        units_section = bench_units.render(bench_units.measure(3 if args.quick else 7))
     targets = section(floor, compile_data, switching, coldstart, cartesian, with_output)
 
     elapsed = time.perf_counter() - began
-    (out / "benchmarks.md").write_text(report.render(info, runs, compile_data, pngs, settings, elapsed, floor,
-                                                     targets), encoding="utf-8")
+    text = report.render(info, runs, compile_data, pngs, settings, elapsed, floor, targets)
+    (out / "benchmarks.md").write_text(text + ("\n" + units_section if units_section else ""), encoding="utf-8")
     log(f"wrote {out / 'benchmarks.md'} in {elapsed / 60:.1f} min")
     return 0
 
