@@ -43,12 +43,21 @@ _FREE_LENGTH_AT_REST = Explanation(
     "car (seat), the statics 11250 N/100 N/m - 0.5 m, 11000 N/1e4 N/m - 0.5 m, 1000 N/1000 N/m "
     "- 0.5 m, dyadc initializes and reproduces the published final values")
 
+# The same published cases, seen first through the values they compare: dyadc checks the names a
+# run is asked to write before it starts (issue 28), so the case's expected signal is refused
+# before the initialization that _FREE_LENGTH_AT_REST explains is reached.
+_EXPECTS_INITIAL_STRETCH = Explanation(
+    "unknown signal",
+    "its test case compares `spring_damper.initial_stretch` of each MassSpringDamper, a member "
+    "the documented TranslationalComponents.SpringDamper does not have (parameters c, d, s_rel0); "
+    "past that, " + _FREE_LENGTH_AT_REST.culprit)
+
 EXPLAINED: dict[str, Explanation] = {
-    "DyadExampleComponents/dyad/active_suspension.dyad:ActiveSuspension": _FREE_LENGTH_AT_REST,
+    "DyadExampleComponents/dyad/active_suspension.dyad:ActiveSuspension": _EXPECTS_INITIAL_STRETCH,
     "DyadExampleComponents/dyad/active_suspension.dyad:ActiveSuspensionTransient":
         _FREE_LENGTH_AT_REST,
     "DyadExampleComponents/dyad/active_supsension_with_reverse_causality_test.dyad:"
-    "ActiveSuspensionWithReverseCausality": _FREE_LENGTH_AT_REST,
+    "ActiveSuspensionWithReverseCausality": _EXPECTS_INITIAL_STRETCH,
     "DyadExampleComponents/dyad/train.dyad:Train": _NO_INITIAL_STRETCH,
     "DyadExampleComponents/dyad/train_stopper.dyad:TrainStopper": _NO_INITIAL_STRETCH,
     "BlockComponents/dyad/lim_pid.dyad:LimPID": Explanation(

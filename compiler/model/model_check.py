@@ -151,10 +151,14 @@ def _assess(flat: FlatSystem) -> Verdict:
 
 def check_model(flat: FlatSystem) -> Verdict:
     """`dyadc check`: the verdict of `assess`, and for a model that runs on its own, the values
-    its run needs (without `-p`, `simulate` would refuse it just so)."""
+    its run needs. A subcomponent's parameter without a value is an error, as in `simulate`: its
+    value belongs where this model instantiates it. The checked component's own parameters may
+    lack one: whoever uses the component gives it (a library part such as a gain `k`), or `-p`
+    when it is simulated alone; flattening warns of them."""
     verdict = assess(flat)
     if not verdict.is_partial:
-        require_parameter_values(flat)
+        own = {p.name for p in flat.parameters if p.origin.path == ""}
+        require_parameter_values(flat, used_parameter_names(flat) - own)
     return verdict
 
 

@@ -108,10 +108,52 @@ def test_the_hint_for_a_parameter_of_the_model_itself_uses_its_declared_type(tmp
           initial x = 1
         end
         """)
-    code, _, err = run(capsys, "check", f"{path}:Decay")
+    code, _, err = run(capsys, "simulate", f"{path}:Decay", "--stop", "1")
     assert code == 1
     assert located_lines(err, path) == [("error", line_of(path, "parameter k::"))], err
     assert "`parameter k::Rate = VALUE`" in err and "::Real" not in err
+
+
+def test_check_leaves_a_components_own_parameter_to_whoever_uses_it(tmp_path, capsys):
+    """A library part (a gain with its `k`) checks alone: its own parameter gets its value where
+    the part is used, or from -p; `check` warns at the declaration and exits 0, `simulate` refuses."""
+    path = write(tmp_path, "Gain.dyad", """
+        component Gain
+          "The gain"
+          parameter k::Real
+          u = RealInput()
+          y = RealOutput()
+        relations
+          y = k * u
+        end
+        component Alone
+          parameter rate::Real
+          variable x::Real
+        relations
+          der(x) = -rate * x
+          initial x = 1
+        end
+        component Rig
+          g = Gain()
+          variable x::Real
+        relations
+          g.u = 1
+          der(x) = g.y
+          initial x = 0
+        end
+        """)
+    code, out, err = run(capsys, "check", f"{path}:Gain")
+    assert code == 0, err
+    assert "partial" in out
+    code, out, err = run(capsys, "check", f"{path}:Alone")
+    assert code == 0, err
+    assert f"{path}:{line_of(path, 'parameter rate::')}:3: parameter `rate` has no value" in out
+    code, _, err = run(capsys, "simulate", f"{path}:Alone", "--stop", "1")
+    assert code == 1 and "`rate`" in err and "has no value" in err
+    code, _, err = run(capsys, "check", f"{path}:Rig")
+    assert code == 1
+    assert located_lines(err, path)[:2] == [("error", line_of(path, "parameter k::")),
+                                            ("note", line_of(path, "g = Gain()"))], err
 
 
 def test_a_runaway_variable_is_pointed_at_its_declaration_not_its_doc_string(tmp_path, capsys):
