@@ -28,7 +28,7 @@ from compiler.syntax.modelica_forms import modelica_form_error
 from compiler.julia.functions import JuliaFunction, UnreadableFunction, julia_source_files, \
     read_julia_functions
 from compiler.model.library_path import BASE_PACKAGE, LIBRARY_PATH_VARIABLE, PROJECT_FILE, Root, \
-    describe, package_provider, search_path
+    check_user_packages, describe, package_provider, search_path
 from compiler.syntax import ast
 
 STANDARD_PACKAGE = BASE_PACKAGE
@@ -77,6 +77,7 @@ class Library:
         self.type_cache: dict[tuple, object] = {}     # used by compiler.model.instantiate
         self._julia: dict[str, dict] = {}             # package folder -> its Julia functions
         self._providers: dict[str, Root | None] = {}  # top-level package -> the root providing it
+        self._dependencies: dict[str, set[str] | None] = {}   # top-level package -> its [deps]
 
     # -------------------------------------------------------------------------------- files
 
@@ -119,11 +120,14 @@ class Library:
         folder = Path(folder).resolve()
         if folder in self.roots:
             return
-        self.search_path.append(Root(folder, "model folder", runs_code=False))
+        root = Root(folder, "model folder", runs_code=False)
+        check_user_packages([*self.search_path, root])
+        self.search_path.append(root)
         self.roots.append(folder)
         self._found.clear()
         self._lookup_cache.clear()
         self._providers.clear()
+        self._dependencies.clear()
 
     def provider(self, package: str) -> Root | None:
         """The root whose folder provides all of top-level package `package` (one root only)."""
@@ -142,6 +146,11 @@ class Library:
 
     def declared_dependencies(self, package: str) -> set[str] | None:
         """The [deps] of top-level package `package`'s Project.toml, or None when it declares none."""
+        if package not in self._dependencies:
+            self._dependencies[package] = self._read_dependencies(package)
+        return self._dependencies[package]
+
+    def _read_dependencies(self, package: str) -> set[str] | None:
         provider = self.provider(package) if package else None
         if provider is None:
             return None

@@ -8,8 +8,8 @@ Roots, in the order listed:
   3. each folder of the environment variable DYADC_PATH (os.pathsep-separated, like MODELICAPATH).
 
 A package is one unit, as in Julia: the top-level folder `P` of exactly one root provides all of
-package `P` (`package_providers`). The user's roots (2, 3) are asked first, in their order, then the
-shipped library, then a model file's folder: a user's package `P` *replaces* the shipped `P` (a
+package `P` (`package_provider`). The user's roots (2, 3, then a model file's folder) are asked first, in
+their order, then the shipped library: a user's package `P` *replaces* the shipped `P` (a
 note names both folders), it never merges with it. The base library `Dyad` is the exception: it is
 always the shipped one. A user folder `P` that only adds definitions to the shipped `P` (none of its
 names is one of the shipped package's, and it has no Project.toml) is a located error saying how to
@@ -36,7 +36,7 @@ SHIPPED_LIBRARY_PACKAGE = "compiler.components"
 LIBRARY_PATH_VARIABLE = "DYADC_PATH"
 BASE_PACKAGE = "Dyad"
 PROJECT_FILE = "Project.toml"
-USER_ORIGINS = ("-L", LIBRARY_PATH_VARIABLE)
+USER_ORIGINS = ("-L", LIBRARY_PATH_VARIABLE, "model folder")
 _HEADER = re.compile(r"(?m)^[ \t]*(?:partial\s+)?(?:component|connector|type|enum|analysis|struct)"
                      r"\s+(\w+)")
 
@@ -103,13 +103,11 @@ def search_path(lib_dirs: Sequence[str | os.PathLike] = (), *, include_shipped: 
 
 
 def package_order(roots: Sequence[Root], package: str) -> list[Root]:
-    """The roots in the order they are asked for top-level package `package`: the user's roots
-    first (a user's package replaces a shipped one), then the shipped library, then model folders;
-    the base library `Dyad` from the shipped library first."""
-    rank = {"shipped library": 1, "model folder": 2}
-    if package == BASE_PACKAGE:
-        rank = {"shipped library": -1, "model folder": 2}
-    return sorted(roots, key=lambda root: rank.get(root.origin, 0))
+    """The roots in the order they are asked for top-level package `package`: the user's (-L,
+    DYADC_PATH, a model file's folder, in path order) before the shipped library, whose package a
+    user's replaces; the base library `Dyad` from the shipped library first."""
+    shipped_rank = -1 if package == BASE_PACKAGE else 1
+    return sorted(roots, key=lambda root: shipped_rank if root.origin == "shipped library" else 0)
 
 
 def package_provider(roots: Sequence[Root], package: str) -> Root | None:
@@ -147,7 +145,8 @@ def check_user_packages(roots: Sequence[Root]) -> None:
     if not shipped:
         return
     shipped_folder = shipped[0].path
-    for package in sorted(p.name for p in shipped_folder.iterdir() if p.is_dir()):
+    for package in sorted(p.name for p in shipped_folder.iterdir()
+                          if p.is_dir() and not p.name.startswith(("_", "."))):
         user = package_provider(roots, package)
         if package == BASE_PACKAGE or user is None or user.origin not in USER_ORIGINS:
             continue
@@ -158,7 +157,7 @@ def check_user_packages(roots: Sequence[Root]) -> None:
                 raise _adds_to_shipped_error(package, folder, shipped_folder / package, added)
         warnings.warn(PackageNote(f"note: package `{package}` from {folder} replaces the shipped "
                                   f"one in {shipped_folder / package} (a package is found in one "
-                                  f"folder; nothing of the shipped one is used)"), stacklevel=2)
+                                  f"folder; nothing of the shipped one is used)"), stacklevel=1)
 
 
 def _adds_to_shipped_error(package: str, folder: Path, shipped: Path,

@@ -5,6 +5,9 @@ package is a located error; names inside a package stay in it, its declared depe
 base library `Dyad`."""
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
 import textwrap
 import warnings
 from pathlib import Path
@@ -174,3 +177,26 @@ def test_names_inside_a_package_stay_in_it_its_dependencies_and_the_base_library
     free = library.find("Free.Uses").file
     assert library.lookup("RotationalComponents.Inertia", "Free", free) is not None
     assert library.lookup("Resistor", "Free", free) is None
+
+
+def test_the_command_line_reports_the_added_folder_at_its_definition(tmp_path):
+    added = _write(tmp_path / "lib" / "ElectricalComponents" / "TwoResistors.dyad",
+                   "component TwoResistors\n  r1 = Resistor(R = 1)\nend\n")
+    env = {k: v for k, v in os.environ.items() if k != LIBRARY_PATH_VARIABLE}
+    run = subprocess.run([sys.executable, "-m", "compiler", "check", "ElectricalComponents.Resistor",
+                          "-L", str(tmp_path / "lib")], cwd=tmp_path, env=env, capture_output=True,
+                         text=True, timeout=300)
+    assert run.returncode == 1
+    assert run.stderr.startswith(f"{added}:1:11: error: `TwoResistors` is added to package "
+                                 f"`ElectricalComponents`"), run.stderr
+    assert "hint: make a package of your own" in run.stderr and "Traceback" not in run.stderr
+
+
+def test_a_package_beside_a_model_file_replaces_the_shipped_one(two_libraries):
+    """The folder of a model file given by path is the user's too: its TranslationalComponents is
+    the one used, with the note."""
+    first, _ = two_libraries
+    model = _write(first / "Rig.dyad", RIG)
+    with pytest.warns(PackageNote, match="from " + str(first / "TranslationalComponents")):
+        flat = flatten_model(str(model))
+    assert flat.parameter_values()["block.m"] == 2.0
