@@ -161,7 +161,12 @@ class Library:
         try:
             deps = tomllib.loads(text).get("deps")
         except tomllib.TOMLDecodeError as err:
-            raise DyadError(f"{provider.path / package / PROJECT_FILE}: {err}") from None
+            at = re.search(r"at line (\d+), column (\d+)", str(err))
+            line, column = (int(at[1]), int(at[2])) if at else (1, 1)
+            raise DyadError(f"package `{package}` has a {PROJECT_FILE} that is not TOML: "
+                            f"{str(err).split(' (at ')[0]}",
+                            Span(str(provider.path / package / PROJECT_FILE), line, column, line, column),
+                            hint="its [deps] table lists the packages it may name") from None
         return set(deps) if isinstance(deps, dict) else None
 
     @property

@@ -200,3 +200,14 @@ def test_a_package_beside_a_model_file_replaces_the_shipped_one(two_libraries):
     with pytest.warns(PackageNote, match="from " + str(first / "TranslationalComponents")):
         flat = flatten_model(str(model))
     assert flat.parameter_values()["block.m"] == 2.0
+
+
+def test_a_project_file_that_is_not_toml_is_a_located_error(tmp_path):
+    project = _write(tmp_path / "lib" / "Mine" / "Project.toml", '[deps]\nElectricalComponents = \n')
+    _write(tmp_path / "lib" / "Mine" / "Uses.dyad", "component Uses\nend\n")
+    library = Library([tmp_path / "lib"])
+    file = library.find("Mine.Uses").file
+    with pytest.raises(DyadError) as caught:
+        library.lookup("ElectricalComponents.Resistor", "Mine", file)
+    assert (caught.value.span.file, caught.value.span.line) == (str(project), 2)
+    assert caught.value.message.startswith("package `Mine` has a Project.toml that is not TOML: ")
