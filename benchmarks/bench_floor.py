@@ -64,12 +64,13 @@ PHASES = ("IDAS", "integrator construction", "initialization", "outputs", "check
 def compiled_models() -> dict[str, runtime.CompiledModel]:
     """The excavator on the VM and, where a C compiler is found, in C."""
     from compiler import api
+    from compiler.cache.c_code import compile_c
     from compiler.lower import ccodegen
     vm = api.compile(MODEL).model
     models = {"VM": vm}
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        native = ccodegen.compile_c(vm)
+        native = compile_c(vm)
     if native.metadata.get("codegen") == "c":
         models["C"] = native
     return models
@@ -269,6 +270,7 @@ def library_cost(model: runtime.CompiledModel, repeats: int = 3) -> dict[str, tu
     import resource
     import subprocess
     import tempfile
+    from compiler.cache.c_code import compile_c
     from compiler.lower import ccodegen
     compiler = ccodegen.find_compiler()
     dae = ccodegen.dae_function(model)

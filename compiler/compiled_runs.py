@@ -35,7 +35,7 @@ def simulate_compiled(compilation: Compilation | CachedCompilation, stop: float,
         return _simulate_cached(compilation, options, stop, arguments)
     # a model switches among its own variants, or those made from its universal system
     # (runtime/universal.py: the same in-process, from the cache, in generated code and in sweep workers)
-    from compiler.model.run_checks import checked_run       # missing parameter values, singular start
+    from compiler.run_checks import checked_run       # missing parameter values, singular start
     with checked_run(compilation, params, start), runtime_errors(compilation.reduced, compilation.flat):
         result = runtime.simulate(compilation.model, options=options)
     return _with_compile_times(result, compilation.timings)

@@ -11,7 +11,7 @@ import warnings
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Sequence
 
-from compiler.structure.collection import fewer_collections      # gc thresholds only: imports nothing heavy
+from compiler.model.collection import fewer_collections      # gc thresholds only: imports nothing heavy
 
 if TYPE_CHECKING:
     from compiler.cache.models import CachedCompilation
@@ -34,7 +34,7 @@ class Compilation:
     report: StructureReport
     timings: dict[str, float] = field(default_factory=dict)
     analysis: Analysis | None = None
-    variant: object | None = None        # a dynamic.Variant when the state set may have to switch
+    variant: object | None = None        # a state_set_variants.Variant when the state set may have to switch
     cache_key: str | None = None         # the cache entry this compilation was stored under
 
     @property
@@ -101,8 +101,8 @@ def compile_or_load(spec: str, lib_dirs: Sequence[str] = (), *,
                     cache: bool = True) -> Compilation | CachedCompilation:
     """The compiled model of `spec`: from the compilation cache when every source it was compiled
     from is unchanged (a CachedCompilation: model only), else compiled (a Compilation, stored in
-    the cache unless its state set may switch during a run to a state set that was not derived
-    at compile time: that run needs the symbolic stages).
+    the cache unless its state sets are more than the compiler builds one by one: such a model
+    carries its universal system instead and is compiled again at every run).
     `cache=False` or DYADC_CACHE_DIR=off: compile, read and write nothing."""
     if not cache:
         return compile_spec(spec, lib_dirs, library=_library(lib_dirs))
@@ -124,7 +124,7 @@ def compile_or_load(spec: str, lib_dirs: Sequence[str] = (), *,
     if parses is not None:
         parses.prune()
     if compilation.dynamic and not getattr(compilation.model, "variants", None):
-        return compilation          # its run derives state sets from the symbolic stages
+        return compilation          # over the variant limit: not stored (docs/cache.md)
     began = time.perf_counter()
     try:
         compilation.cache_key = models.store(spec, lib_dirs, library.inputs(), compilation,
@@ -162,7 +162,10 @@ def start_notes(compilation: Compilation | CachedCompilation) -> list[str]:
 
 
 def recompile(cached: CachedCompilation) -> Compilation:
-    """The full compilation behind a cached one, for what only the sources can tell."""
-    compilation = compile_spec(cached.spec, cached.lib_dirs)
+    """The full compilation behind a cached one, for what only the sources can tell (its unit
+    findings were reported when it was loaded: not again)."""
+    from compiler.units.mode import units_mode
+    with units_mode("off"):
+        compilation = compile_spec(cached.spec, cached.lib_dirs)
     compilation.timings = {**cached.timings, **compilation.timings}
     return compilation

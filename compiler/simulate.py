@@ -1,43 +1,15 @@
-"""Compiler-side entry points to the runtime: lower, simulate, and translate runtime failures into
-located DyadErrors."""
+"""Runtime failures as located DyadErrors: the runtime knows nothing of sources, so a failure that
+names an initial equation or a variable is pointed at it here."""
 from __future__ import annotations
 
-import time
 from contextlib import contextmanager
 from typing import TYPE_CHECKING, Iterator, Mapping
 
 from compiler import runtime
 from compiler.errors import DyadError, Note, SimulationError, Span
-from compiler.runtime import CompiledModel, Result
 
 if TYPE_CHECKING:
     from compiler.structure.reduced import ReducedSystem
-
-
-def compile_model(reduced: ReducedSystem, codegen: str | None = None) -> CompiledModel:
-    """Lower `reduced`; `codegen='c'` compiles the DAE to a shared library (see ccodegen)."""
-    from compiler.lower.to_casadi import lower
-    began = time.perf_counter()
-    model = lower(reduced)
-    if codegen not in (None, "", "none", "vm"):
-        if codegen != "c":
-            raise DyadError(f"unknown code generation target '{codegen}' (expected 'c' or none)")
-        from compiler.lower.ccodegen import compile_c
-        model = compile_c(model)
-    model.compile_time = time.perf_counter() - began
-    return model
-
-
-def simulate_model(model: CompiledModel, stop: float, reduced: ReducedSystem | None = None,
-                   **options) -> Result:
-    """runtime.simulate with failures as DyadErrors; `reduced` (optional) locates init residuals."""
-    with runtime_errors(reduced):
-        return runtime.simulate(model, stop, **options)
-
-
-def simulate_reduced(reduced: ReducedSystem, stop: float, *, codegen: str | None = None,
-                     **options) -> Result:
-    return simulate_model(compile_model(reduced, codegen), stop, reduced, **options)
 
 
 @contextmanager

@@ -210,7 +210,7 @@ def render(machine: dict, runs, compile_data: dict, pngs: dict, settings: dict, 
               "marked *failed* with its message.",
               "- Contenders: **dyadc (VM)** = `compiler.api.compile` + `api.simulate_compiled` (IDAS through "
               "CasADi's SX virtual machine); **dyadc (C)** = the same model with its DAE, its Jacobian, its outputs "
-              "and the polishing Newton step compiled to a shared library by `compiler.lower.ccodegen.compile_c`; **scipy Radau / BDF / LSODA** = "
+              "and the polishing Newton step compiled to a shared library by `compiler.cache.c_code.compile_c`; **scipy Radau / BDF / LSODA** = "
               "`benchmarks/contenders/scipy_*.py` (solve_ivp on hand-written independent models, with Jacobians). "
               "Times exclude compilation (see Compile time) and include initialization and output evaluation.",
               "- The machine is shared with other work, so times carry noise of a few tens of percent; the "

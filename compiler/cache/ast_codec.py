@@ -30,7 +30,7 @@ TUPLE, SPAN, NODE, SHARED = 0, 1, 2, 3
 _SCALARS = (str, int, float, bool, type(None))
 # The classes a tree may hold: the dataclasses of the AST module (Span is encoded apart).
 _NODE_TYPES = {name: cls for name, cls in vars(ast).items()
-               if isinstance(cls, type) and dataclasses.is_dataclass(cls) and cls.__module__ == ast.__name__}
+               if isinstance(cls, type) and dataclasses.is_dataclass(cls) and name in ast.__all__}
 _FIELDS = {cls: tuple(f.name for f in dataclasses.fields(cls)) for cls in _NODE_TYPES.values()}
 _REVERSED_FIELDS = {cls: names[::-1] for cls, names in _FIELDS.items()}
 # Built by __init__ (slower) only where __init__ does more than set the fields.

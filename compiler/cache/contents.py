@@ -10,8 +10,8 @@ from compiler.cache.store import CACHE_DIR_VARIABLE, cache_root, folder_lock
 
 
 def _c_folder() -> Path:
-    from compiler.lower import c_cache
-    return c_cache.cache_dir()
+    from compiler.cache import c_libraries
+    return c_libraries.cache_dir()
 
 
 def _size(folder: Path, pattern: str) -> tuple[int, int]:

@@ -41,7 +41,7 @@ def hash_text(*parts: str) -> str:
 @lru_cache(maxsize=None)
 def compiler_fingerprint() -> str:
     """The compiler's version, a hash of every file of its package, CasADi's and Python's
-    versions. Hashing the package (110 files, 1.2 MB) takes about 3 ms."""
+    versions (computed once per process)."""
     import casadi            # imported by every run anyway; importlib.metadata would cost 20 ms
     import compiler
     package = Path(compiler.__file__).resolve().parent

@@ -1,7 +1,7 @@
 """The parsed trees of the shipped library, made when dyadc is installed (like Python's .pyc files).
 
-A user's first compile reads about twenty files of the shipped library; parsing them costs 0.2 s
-(importing lark, loading the LALR tables, parsing 45 kB), more than the model itself. Building the
+A user's first compile reads about twenty files of the shipped library, and parsing them (importing
+lark, loading the LALR tables) costs more than the model itself (docs/cache.md). Building the
 wheel (and `pip install .`, `pip install -e .`, `make install`: setup.py runs `write_trees`)
 parses every `.dyad` file of `components/` once and keeps its tree in
 `compiler/cache/shipped_trees/<key>.ast`, sealed (store.py) and encoded as plain JSON data
@@ -12,7 +12,7 @@ made by another parser is only slower.
 The key hashes the parser's fingerprint (the bytes of compiler/syntax/, errors.py and the codec,
 Python's version) and the file's text, not its path: the tree is read back for the path the run
 found the file at (its spans name that path). An edited library file, or an edited grammar, has
-another key and is parsed (and kept in the user's parse cache, parsed.py) as before.
+another key and is parsed (and kept in the user's parse cache, parsed.py).
 """
 from __future__ import annotations
 
@@ -103,16 +103,16 @@ def write_trees(library: Path, folder: Path) -> int:
     return len(kept)
 
 
-def main(argv: list[str] | None = None) -> int:
+def main(argv: list[str] | None = None) -> str:
     """`python -m compiler.cache.library_trees [LIBRARY [FOLDER]]`: the trees of LIBRARY (default:
-    the source checkout's components/) into FOLDER (default: this package's shipped_trees/)."""
+    the source checkout's components/) into FOLDER (default: this package's shipped_trees/); the
+    line that says so."""
     args = sys.argv[1:] if argv is None else argv
     library = Path(args[0]) if args else Path(__file__).resolve().parents[2] / "components"
     folder = Path(args[1]) if len(args) > 1 else TREES_FOLDER
     count = write_trees(library, folder)
-    print(f"{count} parsed trees of {library} in {os.fspath(folder)}")
-    return 0
+    return f"{count} parsed trees of {library} in {os.fspath(folder)}"
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    print(main())

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import logging
 import os
 import time
 from dataclasses import dataclass, field
@@ -29,6 +30,7 @@ ENTRY_SUFFIX = ".model"
 # first (a hit touches its entry) until it is under three quarters of it.
 MAX_FOLDER_BYTES = 512 * 1024 * 1024
 STALE_TEMPORARY_SECONDS = 3600        # a writer's temporary file older than this was left by a killed run
+logger = logging.getLogger(__name__)
 # A source modified this close to (or after) the start of the compile that read it may not be
 # the version that was read: such a compile is not stored (mtime granularity is a few ms).
 MTIME_MARGIN_NS = 20_000_000
@@ -112,7 +114,11 @@ def read_entry(key: str, folder: Path | None = None) -> tuple[CompiledModel, lis
         findings = data.get("unit_findings")
         return (model, [str(n) for n in data["needs_values"]], declarations,
                 [str(n) for n in data["notes"]], None if findings is None else list(findings))
-    except Exception:         # a sealed entry that does not rebuild (another CasADi): a miss
+    except Exception as err:      # a cache never fails a compile: the model is compiled again
+        # The key covers the compiler's files and CasADi's version, so a sealed entry of the current
+        # format that does not rebuild is a bug or a file edited by hand: say so, then miss.
+        logger.warning("the cached model %s does not load (%s: %s); compiling it again", key,
+                       type(err).__name__, err)
         return None
 
 

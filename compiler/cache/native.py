@@ -3,8 +3,8 @@ cache has it; otherwise it is built by a second process while this one already r
 CasADi's virtual machine, and the next run uses it.
 
 The builder (a Python process running `build(ENTRY_KEY)`) reads the compiled model from the
-cache entry, generates and compiles its C code (compiler.lower.ccodegen: -O1, its validated cache
-in compiler/lower/c_cache.py, one build per library even when several processes ask) and writes
+cache entry, generates and compiles its C code (c_code.py: the validated C library cache of
+c_libraries.py, one build per library even when several processes ask) and writes
 a *link* `models/<entry key>.c-<hash of compiler and flags>.link` naming the library's key, so
 that a later run finds the library without generating C again. The run that started it waits
 for it before exiting (a few tenths of a second after a short run): the next run finds the
@@ -22,7 +22,8 @@ import time
 from pathlib import Path
 
 import compiler
-from compiler.cache import keys
+from compiler.cache import c_libraries, keys
+from compiler.cache.c_code import compile_c
 from compiler.cache.models import models_folder, read_entry
 from compiler.cache.store import read_sealed, write_sealed
 
@@ -38,7 +39,6 @@ def _link_path(folder: Path, entry_key: str, compiler: str) -> Path:
 
 def cached_library(entry_key: str, compiler: str) -> Path | None:
     """The valid cached C library of entry `entry_key`, if one was built."""
-    from compiler.lower import c_cache
     folder = models_folder()
     if folder is None:
         return None
@@ -46,7 +46,7 @@ def cached_library(entry_key: str, compiler: str) -> Path | None:
     key = payload.decode("ascii", "replace").strip() if payload is not None else ""
     if not _KEY.fullmatch(key):               # a key names a file: hexadecimal digits only
         return None
-    return c_cache.valid_entry(c_cache.cache_dir(), key)
+    return c_libraries.valid_entry(c_libraries.cache_dir(), key)
 
 
 class BackgroundBuild:
@@ -86,10 +86,10 @@ def use_c_code(compilation, cache: bool = True) -> BackgroundBuild | None:
     if not cache:             # nothing read or kept: a library in a folder removed at exit
         scratch = Path(tempfile.mkdtemp(prefix="dyadc-c-"))
         atexit.register(shutil.rmtree, scratch, True)
-        compilation.model = ccodegen.compile_c(compilation.model, scratch)
+        compilation.model = compile_c(compilation.model, scratch)
         return None
     if key is None or compiler is None or models_folder() is None or getattr(compilation.model, "variants", None):
-        compilation.model = ccodegen.use_c_code(compilation.model)      # (every state set in C)
+        compilation.model = compile_c(compilation.model)      # (every state set in C)
         return None
     library = cached_library(key, compiler)
     if library is not None:
@@ -97,8 +97,7 @@ def use_c_code(compilation, cache: bool = True) -> BackgroundBuild | None:
         try:
             native.native_dae()                # a library that does not load is rebuilt
         except (RuntimeError, ValueError):
-            from compiler.lower import c_cache
-            c_cache.discard(c_cache.cache_dir(), library.stem.removeprefix("dyad_"))
+            c_libraries.discard(c_libraries.cache_dir(), library.stem.removeprefix("dyad_"))
         else:
             compilation.model = native.replace(metadata={**native.metadata, "codegen": "c"})
             return None
@@ -118,7 +117,7 @@ def build(entry_key: str) -> str | None:
         return "the cache entry or the C compiler is gone"
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", ccodegen.CodegenWarning)
-        native = ccodegen.compile_c(found[0])
+        native = compile_c(found[0])
     if native.native_library is None:
         return next((str(w.message) for w in caught if issubclass(w.category, ccodegen.CodegenWarning)),
                     "no library")

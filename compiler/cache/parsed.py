@@ -1,8 +1,8 @@
 """Parsed source files kept between runs: `<root>/parsed/<key>.ast`, one per file version.
 
 A compile that misses the model cache (a model seen for the first time, or one whose own file was
-edited) still reads the same library files as before; their trees come from here instead of the
-parser, so such a compile imports neither lark nor the parser and skips their 0.1-0.2 s. The key
+edited) still reads the library files an earlier compile read; their trees come from here instead
+of the parser, so such a compile imports neither lark nor the parser (docs/cache.md). The key
 hashes the compiler's fingerprint (keys.compiler_fingerprint: any edit of dyadc, the grammar
 included, changes it), the file's path (spans name it) and the text the parser would read
 (`Path.read_text`, as compiler.syntax.parser.parse_file reads it): a file whose text changed

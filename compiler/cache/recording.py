@@ -24,7 +24,7 @@ class RecordingLibrary(Library):
         self.julia_folders: set[Path] = set()
 
     # Paths are noted as given and resolved once in inputs(): the library reads the same texts
-    # hundreds of times, and a resolve() each time cost a compile 30-40 ms.
+    # hundreds of times.
     def parse(self, path: str | os.PathLike):
         self.read_files.add(path)
         return super().parse(path)
@@ -44,11 +44,6 @@ class RecordingLibrary(Library):
     def _plugins_for(self, qualified_name: str, runs_code: bool) -> list[Path]:
         self.plugin_packages.add(qualified_name)
         return super()._plugins_for(qualified_name, runs_code)
-
-    @property
-    def roots_description(self) -> list[tuple[str, str, bool]]:
-        """(path, origin, runs code) of every root, the model file's folder included."""
-        return [(str(root.path), root.origin, root.runs_code) for root in self.search_path]
 
     def inputs(self) -> list[Input]:
         """Everything the compile depended on, as (kind, absolute path) pairs."""

@@ -57,6 +57,11 @@ def run_linearize(args) -> int:
     if args.output and not args.output.lower().endswith(FORMATS):
         raise DyadError(f"--output {args.output}: a linear model is written as {', '.join(FORMATS)}",
                         hint=f"e.g. --output {args.output.rsplit('.', 1)[0]}.json")
+    if args.output and args.output.lower().endswith(".mat"):
+        import importlib.util
+        if importlib.util.find_spec("scipy") is None:
+            raise DyadError("writing .mat needs scipy: pip install 'dyadc[io]' (or pip install scipy)",
+                            hint=f"or write .json or .npz: --output {args.output[:-4]}.json")
     if args.plot and not args.plot.lower().endswith(".png"):
         raise DyadError(f"--plot {args.plot}: the plot is written as .png", hint="e.g. --plot bode.png")
     if args.at is not None:

@@ -65,6 +65,11 @@ def write_result(result, names: Sequence[str], units: dict, title: str, output: 
     return [target for target, _ in outputs]
 
 
+def listed(paths: Sequence[str]) -> str:
+    """`a`, `a and b`, `a, b and c`: the files a command says it wrote."""
+    return ", ".join(paths[:-1]) + f" and {paths[-1]}" if len(paths) > 1 else "".join(paths)
+
+
 def check_output_file(path: str, option: str) -> None:
     """`path` can be created or replaced as a file: not a folder, under a writable folder."""
     target = Path(path)

@@ -41,7 +41,7 @@ def run_analysis(args: argparse.Namespace) -> int:
     from compiler.cli import options
     from compiler.analysis.transient import FIELDS, find_analysis, read_transient
     from compiler.api import simulate_compiled
-    from compiler.cli.outputs import check_simulate_outputs, write_result
+    from compiler.cli.outputs import check_simulate_outputs, listed, write_result
     from compiler.errors import DyadError
     from compiler.model.flatten import flatten_resolved
     from compiler.model.library import Library
@@ -76,22 +76,19 @@ def run_analysis(args: argparse.Namespace) -> int:
     model = compilation.model
     options.check_output_size(times, len(model.output_names), limit,
                               f"{times:,} output times of {resolved.definition.name}")
-    for note in list(run.notes) + initialization_notes(compilation):
-        print(f"note: {note}", file=sys.stderr)
     units = model.metadata.get("units", {})
     model_overrides = [o for o in overrides if o.name not in run.parameters and o.name not in FIELDS]
     params = options.convert_overrides(model_overrides, model.parameters, units)
+    names = options.chosen_signals(args.vars, model.output_names)
+    for note in list(run.notes) + initialization_notes(compilation):     # after the options' checks
+        print(f"note: {note}", file=sys.stderr)
     result = simulate_compiled(compilation, run.stop, start=run.start, rtol=run.reltol,
                                atol=run.abstol, points=args.points,
                                saveat=None if saveat is None else saveat.grid(), params=params,
                                max_step=run.dtmax if run.dtmax > 0 else None)
-    names = args.vars or None
-    if names:
-        for n in names:
-            result[n]               # unknown names fail before anything is written
-    write_result(result, names or result.names, units, resolved.definition.name, output, args.plot)
+    paths = write_result(result, names or result.names, units, resolved.definition.name, output, args.plot)
     stats = result.stats
-    written = output + (f" and {args.plot}" if args.plot else "")
+    written = listed(paths)
     print(f"ran {resolved.definition.name} ({run.model_name} from {run.start:g} to {run.stop:g} s, "
           f"reltol {run.reltol:g}, abstol {run.abstol:g}): {stats.get('steps')} steps, compile "
           f"{stats.get('compile_time', 0):.2f} s, run {stats.get('run_time', 0):.2f} s; wrote "

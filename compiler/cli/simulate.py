@@ -65,7 +65,7 @@ def run_simulate(args) -> int:
 def _simulate(args, background: list) -> int:
     from compiler.cli import options
     from compiler.api import simulate_compiled
-    from compiler.cli.outputs import check_simulate_outputs, write_result
+    from compiler.cli.outputs import check_simulate_outputs, listed, write_result
     from compiler.pipeline import compile_or_load
     # Every option is checked before the compiler runs: a typo must cost neither a compile nor a run.
     options.check_span(args.start, args.stop)
@@ -113,8 +113,7 @@ def _simulate(args, background: list) -> int:
     print(f"simulated {compilation.model.name} from {args.start:g} to {args.stop:g} s: "
           f"{stats.get('steps')} steps, {events} event{'s' if events != 1 else ''}, compile "
           f"{stats.get('compile_time', 0):.2f} s, run {stats.get('run_time', 0):.2f} s"
-          + (f"; wrote {', '.join(written[:-1])} and {written[-1]}" if len(written) > 1 else
-             f"; wrote {written[0]}" if written else ""), file=sys.stderr)
+          + (f"; wrote {listed(written)}" if written else ""), file=sys.stderr)
     if not args.output and not args.plot:
         _print_final(result, names)
     return 0

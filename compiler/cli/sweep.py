@@ -50,11 +50,38 @@ ADDERS = {"sweep": add_sweep}
 
 
 def run_sweep(args) -> int:
+    from compiler.cli.progress import SweepProgress
     from compiler.sweep.api import SweepInterrupted, SweepOptions, sweep
     from compiler.sweep.design import grid_design, parse_assignment, sampled_design
-    from compiler.sweep.writers import sibling, table_format
+    from compiler.sweep.writers import sibling
 
-    # Everything that can be checked before the compile is checked first.
+    check_options(args)                # everything that can be checked before the compile
+    axes = [parse_assignment(text) for text in args.params]
+    design = (sampled_design(axes, args.samples, args.method, args.seed) if args.samples is not None
+              else grid_design(axes))
+    partial = sibling(args.output, "partial") if args.output else Path("sweep.partial.csv")
+    bar = SweepProgress(len(design), args.progress)
+    options = SweepOptions(stop=args.stop, start=args.start, rtol=args.rtol, atol=args.atol,
+                           points=args.points, variables=args.vars, metrics=args.metrics,
+                           lib_dirs=args.lib, serial=args.serial, workers=args.workers,
+                           batch_size=args.batch_size, partial_output=partial, recompile=args.recompile,
+                           on_sample=lambda outcome: bar.advance(1, 0 if outcome.ok else 1))
+    try:
+        try:
+            result = sweep(args.model, design, options, scheduler=args.scheduler)
+        finally:
+            bar.close()
+    except SweepInterrupted as stop:
+        where = (f"; the {len(stop.partial)} finished samples are in {stop.path} and "
+                 f"{sibling(stop.path, 'samples')}" if stop.path else "; no sample had finished")
+        print(f"interrupted: {stop}{where}", file=sys.stderr)
+        return 130
+    report(result, args)
+    return 0 if result.succeeded else 1
+
+
+def check_options(args) -> None:
+    from compiler.sweep.writers import table_format
     if args.output:
         table_format(args.output)
     if args.samples is None and args.seed is not None:
@@ -66,23 +93,10 @@ def run_sweep(args) -> int:
     if args.serial and args.scheduler:
         raise DyadError("--serial runs here without Dask; --scheduler names a Dask cluster",
                         hint="give one of them")
-    axes = [parse_assignment(text) for text in args.params]
-    design = (sampled_design(axes, args.samples, args.method, args.seed) if args.samples is not None
-              else grid_design(axes))
-    partial = sibling(args.output, "partial") if args.output else Path("sweep.partial.csv")
-    options = SweepOptions(stop=args.stop, start=args.start, rtol=args.rtol, atol=args.atol,
-                           points=args.points, variables=args.vars, metrics=args.metrics,
-                           lib_dirs=args.lib, serial=args.serial, workers=args.workers,
-                           batch_size=args.batch_size, progress=args.progress,
-                           partial_output=partial, recompile=args.recompile)
-    try:
-        result = sweep(args.model, design, options, scheduler=args.scheduler)
-    except SweepInterrupted as stop:
-        where = (f"; the {len(stop.partial)} finished samples are in {stop.path} and "
-                 f"{sibling(stop.path, 'samples')}" if stop.path else "; no sample had finished")
-        print(f"interrupted: {stop}{where}", file=sys.stderr)
-        return 130
 
+
+def report(result, args) -> None:
+    """The summary and the engine on stderr; the files written, or the per-sample table."""
     print(result.summary(), file=sys.stderr)
     stats = result.stats
     engine = (f"{stats.get('workers')} Dask workers ({stats.get('scheduler')}), "
@@ -97,7 +111,6 @@ def run_sweep(args) -> int:
         print(f"wrote {result.plot(args.plot)}", file=sys.stderr)
     if not args.output:
         _print_samples(result)
-    return 0 if result.succeeded else 1
 
 
 def _print_samples(result) -> None:

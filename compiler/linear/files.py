@@ -29,6 +29,9 @@ def as_plain(system: LinearSystem) -> dict:
 
 def write(system: LinearSystem, path: str | os.PathLike) -> None:
     suffix = Path(path).suffix.lower()
+    if suffix not in FORMATS:
+        raise ValueError(f"unknown linear-model format {suffix!r} (use one of {', '.join(FORMATS)})")
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
     if suffix == ".json":
         Path(path).write_text(json.dumps(as_plain(system), indent=1) + "\n", encoding="utf-8")
         return
@@ -41,12 +44,10 @@ def write(system: LinearSystem, path: str | os.PathLike) -> None:
         arrays[f"operating_point_{group}"] = np.array(list(point[group].values()), dtype=float)
     if suffix == ".npz":
         np.savez(path, **arrays)
-    elif suffix == ".mat":
+    else:
         import scipy.io          # names as cell arrays of strings (char matrices would pad them)
         scipy.io.savemat(path, {k: (np.array(list(v), dtype=object) if v.dtype.kind == "U" else v)
                                 for k, v in arrays.items()})
-    else:
-        raise ValueError(f"unknown linear-model format {suffix!r} (use one of {', '.join(FORMATS)})")
 
 
 def summary(system: LinearSystem, max_transfer_states: int = 6, max_channels: int = 4) -> str:

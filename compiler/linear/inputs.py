@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import sympy
 
 from compiler.errors import DyadError, suggest_name
-from compiler.model.flat import INPUT, Equation, FlatSystem, Origin, Parameter, symbol
+from compiler.model.flat import INPUT, Equation, FlatSystem, Origin, Parameter
 
 
 @dataclass(frozen=True)
@@ -72,8 +72,8 @@ def with_linear_inputs(flat: FlatSystem, perturbed: list[str] = (), opened: list
                 raise DyadError(f"analysis point `{name}`: no connection `{inp} = {out}` found in "
                                 f"the flat model (its output signal drives another set?)", point.span)
             old = equations[index]
-            driven = symbol(param) if name in opened else symbol(out) + symbol(param)
-            equations[index] = Equation(symbol(inp) - driven, old.origin, "analysis_point")
+            driven = sympy.Symbol(param) if name in opened else sympy.Symbol(out) + sympy.Symbol(param)
+            equations[index] = Equation(sympy.Symbol(inp) - driven, old.origin, "analysis_point")
             added.append(Parameter(param, 0.0, origin=Origin("", point.span),
                                    description=f"perturbation at analysis point {name}"))
             taken.add(param)
@@ -87,10 +87,37 @@ def with_linear_inputs(flat: FlatSystem, perturbed: list[str] = (), opened: list
 
 
 def _connection_index(equations: list[Equation], out: str, inp: str) -> int | None:
-    target = symbol(inp) - symbol(out)
+    target = sympy.Symbol(inp) - sympy.Symbol(out)
     for i, equation in enumerate(equations):
         if equation.kind == "connect" and sympy.expand(equation.residual - target) == 0:
             return i
         if equation.kind == "connect" and sympy.expand(equation.residual + target) == 0:
             return i
     return None
+
+
+def check_not_differentiated(flat: FlatSystem, analysis, inputs: list[str]) -> None:
+    """An input that some derivative depends on (a differentiated variable set by it, or an
+    equation with it that the index reduction differentiated) would need its own time derivative,
+    which a parameter does not have (it is held constant): refuse, located, rather than give a
+    linear model without those terms."""
+    wanted = {symbol(name) for name in inputs}
+    differentiated = set(flat.derivatives.values())
+    for name, expression in analysis.alias.eliminated.items():
+        used = sorted(s.name for s in sympy.sympify(expression).free_symbols & wanted)
+        if used and name in differentiated:
+            raise _differentiated(flat, used[0], f"`{name}` follows it and is differentiated",
+                                  flat.variable(name).origin.span)
+    system = analysis.system
+    for i, equation in enumerate(system.equations):
+        used = sorted(s.name for s in equation.free_symbols & wanted)
+        if used and system.eq_to_diff[i] >= 0:
+            raise _differentiated(flat, used[0], "the index reduction differentiates an equation with it",
+                                  getattr(system.origins[i], "span", None))
+
+
+def _differentiated(flat: FlatSystem, name: str, why: str, span) -> DyadError:
+    return DyadError(f"input `{name}` of `{flat.name}` would need its time derivative ({why}): dyadc "
+                     f"holds inputs constant and cannot linearize from it", span,
+                     hint="drive it through a filter or an integrator of its own (a state), or "
+                          "linearize from another input")

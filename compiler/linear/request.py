@@ -80,7 +80,9 @@ def compile_linear(spec: str | FlatSystem, request: Request, lib_dirs: Sequence[
     (compiler/linear/inputs.py)."""
     from compiler.pipeline import compile_flat, compile_or_load, flatten_spec
     given = None if isinstance(spec, str) else spec
-    if given is None and cache and not request.inputs and not request.opened:
+    # the cache holds the model alone: enough when the outputs are named (the default outputs,
+    # the top-level ones, need the flat model) and nothing is perturbed or opened
+    if given is None and cache and request.outputs and not request.inputs and not request.opened:
         from compiler.cache import models
         from compiler.cache.store import CacheError
         try:
@@ -89,7 +91,8 @@ def compile_linear(spec: str | FlatSystem, request: Request, lib_dirs: Sequence[
             found = None
         if found is not None and all(n in found.model.output_names for n in request.outputs):
             return LinearCompilation(found, None, [])
-    from compiler.linear.inputs import analysis_points, free_inputs, with_linear_inputs
+    from compiler.linear.inputs import analysis_points, check_not_differentiated, free_inputs, \
+        with_linear_inputs
     flat = given or flatten_spec(spec, lib_dirs)[0]
     points = analysis_points(flat)
     free = free_inputs(flat)
@@ -101,7 +104,11 @@ def compile_linear(spec: str | FlatSystem, request: Request, lib_dirs: Sequence[
         compilation = compile_flat(flat) if given else compile_or_load(spec, lib_dirs, cache=cache)
         return LinearCompilation(compilation, flat, [])
     changed = with_linear_inputs(flat, perturbed, list(request.opened))
-    return LinearCompilation(compile_flat(changed), changed, list(changed.metadata["linear_inputs"]), free)
+    compilation = compile_flat(changed)
+    inputs = list(changed.metadata["linear_inputs"])
+    # an input held constant at the operating point is right; one linearized from must not need der()
+    check_not_differentiated(changed, compilation.analysis, list(request.inputs) or free)
+    return LinearCompilation(compilation, changed, inputs, free)
 
 
 def _unknown(flat, name: str, points, free, opening: bool):
@@ -121,7 +128,8 @@ def _linearize(compiled: LinearCompilation, request: Request, inputs: Sequence[s
         inputs = list(request.inputs) or list(compiled.free)
     for name in request.op:
         if name not in compiled.inputs:
-            raise DyadError(f"--op {name}=...: `{name}` is not an input of this linearization",
+            raise DyadError(f"--op {name}=...: `{name}` is not an input of this linearization (only "
+                            f"an input takes a value at the operating point)",
                             hint=f"its inputs: {', '.join(compiled.inputs) or 'none'}; a parameter "
                                  f"takes -p NAME=VALUE")
     if outputs is None:

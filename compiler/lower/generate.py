@@ -1,24 +1,8 @@
-"""`make generate`: the modules committed under generated/, rebuilt from the sources."""
+"""The default name of a generated Python module (`dyadc compile`), from the model's qualified name."""
 from __future__ import annotations
 
 import keyword
 import re
-from pathlib import Path
-
-# module name -> model spec; every entry is rebuilt by `dyadc generate` and checked for staleness in CI.
-# The names are explicit (not module_name()'s qualified default) so that imports stay short.
-GENERATED_MODELS = {
-    "excavator": "MultibodyComponents.PlanarMechanics.examples.excavator.Excavator",
-}
-
-
-def generate_all(out_dir: str = "generated") -> list[Path]:
-    from compiler.lower.codegen import write_module
-    from compiler.pipeline import compile_spec
-    paths = []
-    for module, spec in GENERATED_MODELS.items():
-        paths.append(write_module(compile_spec(spec).model, module, out_dir))
-    return paths
 
 
 def module_name(qualified_name: str) -> str:

@@ -29,14 +29,6 @@ def der_name(name: str) -> str:
     return f"der({name})"
 
 
-def symbol(name: str) -> sympy.Symbol:
-    return sympy.Symbol(name)
-
-
-def der_symbol(name: str) -> sympy.Symbol:
-    return sympy.Symbol(der_name(name))
-
-
 @dataclass(frozen=True)
 class Origin:
     """Where something came from: the component instance path ('' = the model) and a source span."""

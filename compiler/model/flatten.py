@@ -23,7 +23,7 @@ from compiler.model.flatten_state import FlattenState
 from compiler.model.flatten_variables import flat_variables, variable_equations
 from compiler.model.instantiate import Model, instantiate
 from compiler.model.library import Library, Resolved, load_model, resolve_model  # noqa: F401
-from compiler.structure.collection import fewer_collections
+from compiler.model.collection import fewer_collections
 from compiler.syntax import ast
 
 

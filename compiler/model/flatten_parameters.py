@@ -9,7 +9,7 @@ from compiler.model.expressions import Mode, evaluate, is_array
 from compiler.model.flat import Origin, Parameter
 from compiler.model.flatten_state import FlattenState, scalars, to_float
 from compiler.model.instantiate import Instance, ParameterInstance
-from compiler.structure.differentiate import free_symbols
+from compiler.model.symbols import free_symbols
 
 
 def plain(value: Any) -> Any:

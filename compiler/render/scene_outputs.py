@@ -29,13 +29,13 @@ def write_scene_outputs(out_dir: str = "out") -> list[str]:
     compiled = time.perf_counter()
     result = api.simulate_compiled(compilation, STOP_TIME, rtol=1e-6, points=POINTS)
     simulated = time.perf_counter()
-    result.to_csv(csv_path)
+    written = result.to_csv(csv_path)             # the CSV and its sidecar (parameters, units)
     plot_excavator(result, png_path)
     plotted = time.perf_counter()
     animate(compilation, result, gif_path, fps=FPS, frames=FRAMES)
     animated = time.perf_counter()
 
-    return [f"wrote {csv_path} ({len(result.names)} signals x {len(result.time)} points)",
+    return [f"wrote {written[0]} ({len(result.names)} signals x {len(result.time)} points) and {written[1]}",
             f"wrote {png_path}",
             f"wrote {gif_path} ({FRAMES} frames at {FPS} fps)",
             f"compile {compiled - started:.2f} s, simulate {simulated - compiled:.2f} s "

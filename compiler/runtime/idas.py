@@ -123,7 +123,7 @@ def _scratch_file():
 
 
 def integrator_options(model: CompiledModel, rtol: float, atol, max_steps: int,
-                        extra: Mapping | None) -> dict:
+                        extra: Mapping | None, switched: bool = False) -> dict:
     # calc_ic: CasADi starts IDAS with der(x) = 0 unless told otherwise (measured: the error test
     # then collapses h at t0 on an RC step), and init_xdot cannot change between chunks, so IDAS
     # itself completes der(x) (and re-polishes z) from our consistent point at every (re)start.
@@ -134,7 +134,7 @@ def integrator_options(model: CompiledModel, rtol: float, atol, max_steps: int,
             "suppress_algebraic": True,
             "disable_internal_warnings": True, "show_eval_warnings": False}
     names = model.state_names + model.algebraic_names
-    controlled = error_controlled(model)
+    controlled = error_controlled(model, switched)
     if controlled:
         opts["suppress_algebraic"] = False
     if isinstance(atol, Mapping) or model.nominals or controlled:
@@ -183,7 +183,7 @@ UNCONTROLLED = 1e300     # an absolute tolerance that takes an unknown out of ID
 DUMMY_ATOL_FLOOR = 1e-10
 
 
-def error_controlled(model: CompiledModel) -> set[str]:
+def error_controlled(model: CompiledModel, switched: bool = False) -> set[str]:
     """The algebraic unknowns that IDAS's error test controls besides the states: the dummy states
     of the index reduction (positions and velocities demoted from states, e.g. the dependent angles
     of a mechanism) and their first derivatives, named `v` with a `der(v)` in the model or
@@ -194,18 +194,33 @@ def error_controlled(model: CompiledModel) -> set[str]:
     excavator's only candidates are the angular accelerations der(der(stick.body.phi)) and
     der(der(bucket.body.phi)) of two dummy angles: 11x the steps at rtol 1e-6 with them).
 
-    Not in a model that switches state sets: it switches before a dummy is amplified more than
-    1 / SWITCH_RATIO = 2 times, and near a switch the dummies' error test is what degrades (the
-    pendulum released at 2.3 rad at rtol 1e-12: 762k steps with, 22k without, same accuracy)."""
-    if model.state_sets:
+    In a model whose state set may switch, until its first switch (`switched` false), the
+    dummies' derivatives only. The monitor keeps the dummy positions well conditioned in the
+    states (it switches before one amplifies their error more than 1 / SWITCH_RATIO = 2 times),
+    and in the test they cost accuracy (Cartesian pendulum, rtol 1e-10, 10 s: x 2.4e-9 off the
+    closed form without, 1.5e-8 with); their rates carry the states' errors times the rates
+    (Andrews' squeezer written without state priorities, which never switches, at rtol 1e-10:
+    4.7 digits in w1 without them, 6.9 with). Never the candidates of a monitored level: the
+    dummy derivatives the monitor chooses among (der(der(q)) in a mechanism; der(y) in a circuit
+    whose state set is chosen among node voltages, a capacitor current with the kinks of its
+    diodes: the Test Set's transistor amplifier at rtol 1e-6 had 6,333 error-test failures in
+    10,762 steps with der(y5) in the test, 19 in 3,231 without). From the first switch on the run
+    is integrated at tighter tolerances instead (run_state.switched_factor), the dummies out:
+    near a switch their error test is what degrades."""
+    if model.state_sets and switched:
         return set()
     states = set(model.state_names)
     known = states | set(model.algebraic_names) | set(model.output_names)
+    monitored = {name for level in model.state_sets for name in level["candidates"]}
 
     def root(name: str) -> str:
         while name.startswith("der(") and name.endswith(")"):
             name = name[4:-1]
         return name
+
+    def kept(name: str) -> bool:
+        if name.startswith("der("):
+            return name not in monitored
+        return not model.state_sets and f"der({name})" in known
     return {n for n in model.algebraic_names
-            if root(n) not in states and not n.startswith("der(der(")
-            and (n.startswith("der(") or f"der({n})" in known)}
+            if root(n) not in states and not n.startswith("der(der(") and kept(n)}

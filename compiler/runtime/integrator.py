@@ -77,8 +77,6 @@ class Integrator(Protocol):
     # segment's end; False: after a call, so the loop shortens calls (event_horizon.py, horizons)
     locates_crossings: bool
 
-    def derivative(self, x: np.ndarray, z: np.ndarray, p: np.ndarray, t: float) -> np.ndarray: ...
-
     def advance(self, call: Call) -> Stop: ...
 
 

@@ -3,19 +3,11 @@ model's Jacobian; and Newton solves on large sparse systems outside IDAS.
 
 CasADi's IDAS factorizes the iteration matrix dF/dy' * c + dF/dy with one of CasADi's linear
 solver plugins (option `linear_solver`; its default is CasADi's own sparse QR, "qr", which orders
-the columns to reduce fill). Measured on the N-link pendulum chain (benchmarks/bench_scale.py
-linsol, tables in docs/scaling.md; CPU time of a 0.5 s run at rtol 1e-6):
-- torn form (3N unknowns, a third of the Jacobian filled: dense): with 24 unknowns all direct
-  solvers are within noise; from 48 on CSparse's LU is the fastest (23 % and 49 % faster than
-  the default with 96 and 192), LAPACK's dense LU close behind, LAPACK QR and MUMPS slower;
-- sparse form (compiler/structure/causalize.py: ~11N unknowns, ~11 entries per column):
-  the default QR grows as N^1.0 (0.30 s at N = 256); CSparse's LU, in the natural column order
-  CasADi gives it, fills in (7.9 s at N = 256); dense LU is 10x slower than QR at N = 16.
-- the Krylov scheme (newton_scheme gmres) moves the trajectories by 1e-8 where the direct solvers
-  agree to 1e-13: not used.
-So: the default below SPARSE_LU_FROM unknowns (small models, the excavator, every golden
-trajectory keep their trajectories bit for bit) and for sparse Jacobians; CSparse for large
-dense ones. Options the caller passes (integrator_options) win.
+the columns to reduce fill). Small models (below SPARSE_LU_FROM unknowns: the excavator, every
+golden trajectory) and sparse Jacobians keep that default, so their trajectories stay bit for
+bit; large dense Jacobians (the torn form of a long chain) get CSparse's LU, the fastest there.
+Options the caller passes (integrator_options) win. The measurements behind the thresholds:
+docs/scaling.md, "Which linear solver".
 """
 from __future__ import annotations
 

@@ -117,7 +117,7 @@ class RunState:
             tightened = ({name: value / factor for name, value in atol.items()}
                          if isinstance(atol, Mapping) else atol / factor)
             opts = integrator_options(model, self.options.rtol / factor, tightened,
-                                      self.options.max_steps, self.options.idas_options())
+                                      self.options.max_steps, self.options.idas_options(), switched)
             self.integrators[key] = (model, self.make_integrator(model, opts, watch, self.add))
         return self.integrators[key][1]
 

@@ -31,10 +31,9 @@ class SampledIdas:
         self.watch = watch
         self.tally = tally
 
-    def derivative(self, x: np.ndarray, z: np.ndarray, p: np.ndarray, t: float) -> np.ndarray:
-        return self.idas.derivative(x, z, p, t)
-
     def advance(self, call: Call) -> Stop:
+        """IDAS over the call's outputs and check times; the first crossing at the checks, if
+        any, is where it stops."""
         if call.checks is None:
             checks = [] if self.watch is None else \
                 list(np.linspace(call.t0, call.reach, CHECKS_PER_SEGMENT + 1)[1:])

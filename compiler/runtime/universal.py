@@ -69,7 +69,7 @@ def variant_of(universal: CompiledModel, dummies: frozenset[str], selection: Map
         metadata={**{k: v for k, v in universal.metadata.items() if k != UNIVERSAL},
                   DUMMIES: sorted(dummies), SELECTION: dict(selection)})
     levels = watched_levels(selection, dummies, info.get("stand_ins", ()), output_names, values,
-                              ca.vertcat(x, z, t))
+                            ca.vertcat(x, z, t))
     return model.replace(state_sets=levels)
 
 
@@ -119,7 +119,7 @@ def explicit_unknowns(residuals: ca.SX, symbols: list) -> tuple[list[int], ca.SX
 
 
 def watched_levels(selection: Mapping, dummies: frozenset[str], stand_in_pairs, output_names: list[str],
-                     values: ca.SX, varying_in: ca.SX) -> list[dict]:
+                   values: ca.SX, varying_in: ca.SX) -> list[dict]:
     """The levels of the choice `dummies` that can degrade, in the runtime's plain form
     (CompiledModel.state_sets): each level folded (selection_rules.folded_level) and watched
     where selection_rules.may_degrade says so, an entry varying where its output depends on

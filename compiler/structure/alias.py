@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 import sympy
 
 from compiler.model.flat import TIME, Equation, FlatSystem, der_name
-from compiler.structure.differentiate import free_symbols
+from compiler.model.symbols import free_symbols
 
 
 @dataclass

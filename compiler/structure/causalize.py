@@ -12,7 +12,8 @@ from dataclasses import dataclass, field
 
 import sympy
 
-from compiler.structure.differentiate import free_symbols, partial
+from compiler.model.symbols import free_symbols
+from compiler.structure.differentiate import partial
 from compiler.structure.graph.blt import block_lower_triangular
 from compiler.structure.graph.matching import maximum_matching
 from compiler.structure.graph.tearing import tear_block

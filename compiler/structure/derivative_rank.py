@@ -18,7 +18,8 @@ from fractions import Fraction
 import numpy as np
 import sympy
 
-from compiler.structure.differentiate import free_symbols, partial
+from compiler.model.symbols import free_symbols
+from compiler.structure.differentiate import partial
 
 
 @dataclass

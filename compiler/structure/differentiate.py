@@ -14,38 +14,21 @@ are kept in a bounded memo keyed by (expression, symbol).
 from __future__ import annotations
 
 import sympy
-from sympy.core.basic import Basic
 from sympy.core.function import ArgumentIndexError, Function
 from sympy.ntheory.multinomial import multinomial_coefficients_iterator
 
+from compiler.model.symbols import free_symbols, plain_function
+
 _MEMO_LIMIT = 500_000                        # entries; cleared when full (values are re-derivable)
 _memo: dict[tuple[sympy.Basic, sympy.Symbol], sympy.Expr] = {}
-_free_memo: dict[sympy.Basic, frozenset] = {}
 
 
 def partial(expr: sympy.Expr, symbol: sympy.Symbol) -> sympy.Expr:
     """d expr / d symbol, structurally equal to `sympy.diff(expr, symbol)`."""
-    if max(len(_memo), len(_free_memo), len(_finite_memo)) > _MEMO_LIMIT:
+    if max(len(_memo), len(_finite_memo)) > _MEMO_LIMIT:
         _memo.clear()
-        _free_memo.clear()
         _finite_memo.clear()
     return _partial(expr, symbol)
-
-
-def free_symbols(expr: sympy.Basic) -> frozenset:
-    """`expr.free_symbols`, memoized per node (sympy recomputes it from the leaves every time)."""
-    found = _free_memo.get(expr)
-    if found is None:
-        if expr.is_Symbol:
-            found = frozenset((expr,))
-        elif not expr.args:
-            found = frozenset(expr.free_symbols)
-        elif isinstance(expr, (sympy.Add, sympy.Mul, sympy.Pow)) or _plain_function(type(expr)):
-            found = frozenset().union(*(free_symbols(a) for a in expr.args))
-        else:
-            found = frozenset(expr.free_symbols)
-        _free_memo[expr] = found
-    return found
 
 
 def _partial(expr: sympy.Expr, symbol: sympy.Symbol) -> sympy.Expr:
@@ -81,7 +64,7 @@ def _derive(expr: sympy.Expr, symbol: sympy.Symbol) -> sympy.Expr:
         dbase = _partial(base, symbol)
         dexp = _partial(exponent, symbol)
         return expr * (dexp * sympy.log(base) + dbase * exponent / base)
-    if _plain_function(kind):                # Function._eval_derivative: the chain rule
+    if plain_function(kind):                # Function._eval_derivative: the chain rule
         terms = []
         for i, a in enumerate(expr.args, start=1):
             da = _partial(a, symbol)
@@ -112,26 +95,3 @@ def _finite(expr: sympy.Basic) -> bool:
             found = not any(expr is s for s in _INFINITE)
         _finite_memo[expr] = found
     return found
-
-
-_PLAIN: dict[type, bool] = {}
-
-
-def _plain_function(kind: type) -> bool:
-    """A function class that differentiates by the generic chain rule and has its own fdiff."""
-    plain = _PLAIN.get(kind)
-    if plain is None:
-        plain = (issubclass(kind, Function)
-                 and kind._eval_derivative is Function._eval_derivative
-                 and kind._eval_derivative_n_times is Basic._eval_derivative_n_times
-                 and kind.fdiff is not Function.fdiff
-                 and _class_attribute(kind, "free_symbols") is Basic.__dict__["free_symbols"])
-        _PLAIN[kind] = plain
-    return plain
-
-
-
-def _class_attribute(kind: type, name: str):
-    """The attribute `name` as the class defines it for its instances (`kind.free_symbols` would
-    be the property of sympy's metaclass FunctionClass, not the one instances use)."""
-    return next((c.__dict__[name] for c in kind.__mro__ if name in c.__dict__), None)

@@ -11,7 +11,7 @@ largest remaining column (pivoting) when a point is given.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, Mapping
 
 import numpy as np
 
@@ -33,6 +33,15 @@ def base_variable(system: IndexedSystem, v: int, diff_to_var: list[int]) -> int:
     while diff_to_var[v] >= 0:
         v = diff_to_var[v]
     return v
+
+
+def declared_priority(system: IndexedSystem, priorities: Mapping[str, int]) -> Callable[[int], int]:
+    """The state priority declared for an unknown's base variable (0 where none is)."""
+    diff_to_var = system.diff_to_var()
+
+    def priority(v: int) -> int:
+        return priorities.get(system.names[base_variable(system, v, diff_to_var)], 0)
+    return priority
 
 
 def first_level(system: IndexedSystem) -> tuple[list[int], list[int]]:

@@ -11,7 +11,8 @@ from dataclasses import dataclass, field
 import sympy
 
 from compiler.model.flat import TIME, Origin, der_name
-from compiler.structure.differentiate import free_symbols, partial
+from compiler.model.symbols import free_symbols
+from compiler.structure.differentiate import partial
 
 
 @dataclass

@@ -11,7 +11,7 @@ import sympy
 
 from compiler.errors import DyadError
 from compiler.model.flat import FlatSystem, Origin
-from compiler.structure.differentiate import free_symbols
+from compiler.model.symbols import free_symbols
 from compiler.structure.graph.matching import augmenting_path, maximum_matching
 from compiler.structure.reduced import Assignment, InitialProblem
 

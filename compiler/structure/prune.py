@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sympy
 
-from compiler.structure.differentiate import free_symbols
+from compiler.model.symbols import free_symbols
 from compiler.structure.reduced import Assignment
 
 

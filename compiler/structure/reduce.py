@@ -13,8 +13,9 @@ from compiler.structure.alias import AliasResult, eliminate_aliases
 from compiler.structure.causalize import Causalization, causalize
 from compiler.structure.derivative_rank import RankReport, remove_derivative_dependencies
 from compiler.structure.diagnostics import structural_singularity_error
-from compiler.structure.differentiate import free_symbols, partial
-from compiler.structure.dummy_derivatives import DummySelection, base_variable, select_dummy_derivatives
+from compiler.model.symbols import free_symbols
+from compiler.structure.differentiate import partial
+from compiler.structure.dummy_derivatives import DummySelection, declared_priority, select_dummy_derivatives
 from compiler.structure.index_reduction import IndexReductionReport, reduce_index
 from compiler.structure.indexed import IndexedSystem, build_indexed
 from compiler.structure.initialization import build_initial_problem
@@ -118,11 +119,7 @@ def reduce(flat: FlatSystem, point: dict[str, float] | None = None,
 
 def select_states(system: IndexedSystem, priorities: dict[str, int], flat: FlatSystem,
                   point: dict[str, float] | None, pivots=None) -> DummySelection:
-    diff_to_var = system.diff_to_var()
-
-    def priority(v: int) -> int:
-        return priorities.get(system.names[base_variable(system, v, diff_to_var)], 0)
-
+    priority = declared_priority(system, priorities)
     jacobian = pivots if pivots is not None else \
         _numeric_jacobian(system, flat, point) if point is not None else None
     selection = select_dummy_derivatives(system, priority, jacobian)

@@ -16,7 +16,6 @@ from compiler.sweep.design import Design, as_design
 from compiler.sweep.engine import LostWorkers, require_dask, run_dask, run_serial
 from compiler.sweep.interrupt import DeferredInterrupt
 from compiler.sweep.metrics import Metric, parse_metrics
-from compiler.sweep.progress import SweepProgress
 from compiler.sweep.result import SweepResult
 from compiler.sweep.prepare import Prepared, check_parameters, prepare
 from compiler.sweep.recompile import describe
@@ -41,11 +40,10 @@ class SweepOptions:
     serial: bool = False
     workers: int | None = None                 # LocalCluster size; default one per core
     batch_size: int | None = None              # default: sized from a pilot run
-    progress: bool | None = None               # default: a bar on stderr when it is a terminal
     partial_output: str | os.PathLike | None = None   # where finished samples go on Ctrl-C
     recompile: bool = False                    # structural parameters: compile once per value
     lost_worker_timeout: float = 60.0          # seconds a cluster may be without any worker
-    on_sample: Callable[[Outcome], None] | None = None
+    on_sample: Callable[[Outcome], None] | None = None   # each sample's outcome as it arrives
 
 
 class SweepInterrupted(KeyboardInterrupt):
@@ -79,13 +77,11 @@ def sweep(model, grid_or_samples, options: SweepOptions | Mapping, scheduler: st
     compiled = prepared.model
     job = _job(prepared, options)
     outcomes: dict[int, Outcome] = {}
-    bar = SweepProgress(len(design), options.progress)
 
     interrupt = DeferredInterrupt()
 
     def report(outcome: Outcome) -> None:
         outcomes[outcome.sample] = outcome
-        bar.advance(1, 0 if outcome.ok else 1)
         if options.on_sample is not None:
             options.on_sample(outcome)
         interrupt.check()
@@ -100,11 +96,9 @@ def sweep(model, grid_or_samples, options: SweepOptions | Mapping, scheduler: st
                                  workers=options.workers, batch=options.batch_size, poll=interrupt.check,
                                  lost_after=options.lost_worker_timeout)
     except KeyboardInterrupt:
-        bar.close()
         partial, path = _keep_partial(compiled, design, job, outcomes, options)
         raise SweepInterrupted(partial, path) from None
     except LostWorkers as lost:
-        bar.close()
         partial, path = _keep_partial(compiled, design, job, outcomes, options)
         missing = [i for i in range(len(design)) if i not in outcomes]
         kept = (f"; the {len(outcomes)} finished samples are in {path} and {sibling(path, 'samples')}"
@@ -113,7 +107,6 @@ def sweep(model, grid_or_samples, options: SweepOptions | Mapping, scheduler: st
                         f"finish ({_ranges(missing)}){kept}",
                         hint="restart the workers (a `dask worker` started with a nanny is restarted "
                              "when it dies) and run the sweep again") from None
-    bar.close()
     stats["compiled_models"] = prepared.compiled
     return SweepResult(compiled.name, design, job, outcomes, complete=True, stats=stats,
                        units=_units(compiled))

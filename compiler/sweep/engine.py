@@ -217,10 +217,13 @@ def dask_client(scheduler: str | None, workers: int | None) -> Iterator:
                                  " or leave out --scheduler (and DASK_SCHEDULER_ADDRESS) for a local "
                                  "cluster") from None
     else:
+        # The workers' own logs stay silent: a sample's failure comes back through its future, and
+        # a worker torn down while a Ctrl-C stops the sweep on a loaded machine logs a heartbeat
+        # traceback to the terminal that tells the user nothing.
         with _interrupts_ignored_by_children():
             cluster = LocalCluster(n_workers=workers or default_workers(), threads_per_worker=1,
                                    processes=True, dashboard_address=":0",
-                                   silence_logs=logging.ERROR)
+                                   silence_logs=logging.CRITICAL)
         client = Client(cluster)
     try:
         try:

@@ -66,7 +66,7 @@ def _grid_lines(ax, result, name: str) -> None:
     time, values, samples = result.signal(name)
     colors = _colormap()(np.linspace(0.0, 1.0, max(len(samples), 1)))
     for row, sample, color in zip(values, samples, colors):
-        label = ", ".join(f"{n} = {v:g}" + _unit_suffix(result, n, " ")
+        label = ", ".join(f"{n} = {v:g}{_unit_suffix(result, n)}"
                           for n, v in result.parameter_values(sample).items())
         ax.plot(time, row, color=color, lw=1.1, label=label)
     if 0 < len(samples) <= MAX_LEGEND_LINES:
@@ -86,9 +86,10 @@ def _signal_axes(ax, result, name: str) -> None:
     ax.grid(True, alpha=0.3)
 
 
-def _unit_suffix(result, name: str, separator: str = " ") -> str:
+def _unit_suffix(result, name: str) -> str:
+    """` [unit]` for a name with a declared unit, else nothing."""
     unit = result.units.get(name)
-    return f"{separator}[{unit}]" if unit else ""
+    return f" [{unit}]" if unit else ""
 
 
 def _scatter(ax, result, metric: str, parameter: str) -> None:

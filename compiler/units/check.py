@@ -8,12 +8,12 @@ from __future__ import annotations
 
 from typing import Any
 
-from compiler.errors import DyadError, Span
+from compiler.errors import DyadError
 from compiler.model.expressions import EvalScope, Mode, evaluate, iteration_values, structural_bool, \
     switch_branch
 from compiler.model.flatten_connect import DISABLED, resolve_connector
 from compiler.syntax import ast
-from compiler.units.constraints import DIMENSIONLESS, FREE, Dim, Site, Solver
+from compiler.units.constraints import DIMENSIONLESS, FREE, Dim, Solver
 from compiler.units.expressions import ExpressionUnits
 from compiler.units.findings import Finding, declaration_finding, mismatch_finding
 from compiler.units.system import UnitError, is_offset_unit, parse_unit
@@ -86,7 +86,7 @@ class UnitCheck:
         if is_offset_unit(text):
             return text
         try:
-            return Dim(parse_unit(text), (), text)
+            return Dim(parse_unit(text), (), text, True)
         except UnitError as err:
             self.problems.append(declaration_finding(
                 f"the unit of `{target.path}` cannot be read: {err}",

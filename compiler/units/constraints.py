@@ -5,7 +5,10 @@ declaration typed `::Real` is not written, so each such declaration instance get
 (one per instance: a Gain carries volts in one place and amperes in another). Every equation,
 binding and connect adds constraints `left == right`; `solve` propagates: a constraint with one
 unknown left fixes it, one with none left is checked (dimension, then conversion factor 1).
-A constraint among unknowns that nothing fixes checks nothing (no unit to compare).
+A constraint among unknowns that nothing fixes checks nothing (no unit to compare), and a
+mismatch counts only when a declared unit takes part in it, directly or through the variables it
+fixed: a model written without units (`der(x) = v + log(x)`, every name `::Real`) states none to
+check, as OpenModelica reports only inconsistencies "due to specified unit information".
 """
 from __future__ import annotations
 
@@ -20,25 +23,28 @@ from compiler.units.quantity import ONE, Unit
 
 class Dim:
     """`unit` times the product of variable ** exponent over `powers` (sorted (var, exponent)
-    pairs, empty when the unit is known); `label` is the unit as declared, for messages."""
-    __slots__ = ("unit", "powers", "label")
+    pairs, empty when the unit is known); `label` is the unit as declared, for messages;
+    `declared`: some declaration's unit is part of it (not only time's second or a function's 1)."""
+    __slots__ = ("unit", "powers", "label", "declared")
 
-    def __init__(self, unit: Unit, powers: tuple = (), label: str | None = None):
+    def __init__(self, unit: Unit, powers: tuple = (), label: str | None = None,
+                 declared: bool = False):
         self.unit = unit
         self.powers = powers
         self.label = label
+        self.declared = declared
 
     def __mul__(self, other: "Dim") -> "Dim":
         powers = _merge(self.powers, other.powers, 1) if other.powers else self.powers
-        return Dim(self.unit * other.unit, powers)
+        return Dim(self.unit * other.unit, powers, None, self.declared or other.declared)
 
     def __truediv__(self, other: "Dim") -> "Dim":
         powers = _merge(self.powers, other.powers, -1) if other.powers else self.powers
-        return Dim(self.unit / other.unit, powers)
+        return Dim(self.unit / other.unit, powers, None, self.declared or other.declared)
 
     def __pow__(self, power: int | Fraction) -> "Dim":
         powers = tuple((v, _exact(e * power)) for v, e in self.powers) if self.powers else ()
-        return Dim(self.unit ** power, powers)
+        return Dim(self.unit ** power, powers, None, self.declared)
 
 
 def _exact(value):
@@ -107,13 +113,14 @@ class Solver:
         self.values: list[Unit | None] = []
         self.names: list[str] = []
         self.fixed_at: list[Span | None] = []
+        self.grounded: list[bool] = []          # fixed from a declared unit, directly or not
         self.constraints: list[tuple[Dim, Dim, Site]] = []
-        self.cancelled: list[tuple[Dim, Dim, Site]] = []
 
     def variable(self, name: str) -> Dim:
         self.values.append(None)
         self.names.append(name)
         self.fixed_at.append(None)
+        self.grounded.append(False)
         return Dim(ONE, ((len(self.values) - 1, 1),))
 
     def require(self, left: Any, right: Any, site: Site) -> None:
@@ -122,7 +129,7 @@ class Solver:
             self.constraints.append((left, right, site))
 
     def solve(self) -> list[Mismatch]:
-        found: list[Mismatch] = []
+        mismatched: list[tuple[Dim, Dim, Site]] = []
         waiting: dict[int, list[int]] = {}
         queue = deque(range(len(self.constraints)))       # source order, then as unknowns are fixed
         done = [False] * len(self.constraints)
@@ -137,33 +144,23 @@ class Solver:
                     waiting.setdefault(var, []).append(index)
                 continue
             done[index] = True
-            if not unknown and any(self.values[var] is None for var, _ in left.powers + right.powers):
-                if not unit.consistent_with(ONE):
-                    self.cancelled.append((left, right, site))
-                continue
             if unknown:
                 (var, exponent), = unknown.items()
                 self.values[var] = ONE / unit if exponent == 1 else unit if exponent == -1 \
                     else unit ** _exact(Fraction(-1) / exponent)
                 self.fixed_at[var] = site.span
+                self.grounded[var] = self._declared(left, right)
                 queue.extend(waiting.pop(var, []))
-                continue
-            if not unit.consistent_with(ONE):
-                found.append(self._mismatch(left, right, site))
-        found.extend(self._mismatch(left, right, site) for left, right, site in self._fixed_since())
+            elif not unit.consistent_with(ONE):
+                mismatched.append((left, right, site))
+        # whether a declared unit takes part is known once every variable that can be is fixed
+        found = [self._mismatch(*m) for m in mismatched if self._declared(m[0], m[1])]
         found.sort(key=lambda m: _order(m.site.span))
         return found
 
-    def _fixed_since(self) -> list[tuple[Dim, Dim, Site]]:
-        """The constraints whose only unknowns cancelled (`der(x) = -x`: x per second against x)
-        and left a mismatch: one counts only once every such unknown has a unit from elsewhere
-        (a name declared without a unit, whose unit nothing fixes, states no intent to check)."""
-        out = []
-        for left, right, site in self.cancelled:
-            variables = {var for var, _ in left.powers + right.powers}
-            if all(self.values[var] is not None for var in variables):
-                out.append((left, right, site))
-        return out
+    def _declared(self, left: Dim, right: Dim) -> bool:
+        return left.declared or right.declared or any(
+            self.grounded[var] for var, _ in left.powers + right.powers)
 
     def _residual(self, left: Dim, right: Dim) -> tuple[Unit, dict[int, Any]]:
         """left / right with the fixed variables substituted, and the exponents still unknown."""

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import numpy as np
 
-from compiler.lower.generate import GENERATED_MODELS, generate_all
+from compiler.cli.generate import GENERATED_MODELS, generate_all
 from tests.generated.fresh_process import run_json
 
 ROOT = Path(__file__).resolve().parents[2]

@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from compiler import api
-from compiler.lower.ccodegen import compile_c, find_compiler
+from compiler.cache.c_code import compile_c
+from compiler.lower.ccodegen import find_compiler
 from compiler.lower.codegen import write_module
 from tests.generated.fresh_process import run_json
 

@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 
 from compiler import api, runtime
-from compiler.lower.ccodegen import compile_c, find_compiler
+from compiler.cache.c_code import compile_c
+from compiler.lower.ccodegen import find_compiler
 from compiler.lower.codegen import write_module
 from compiler.lower.universal_variant import universal_model
 from compiler.runtime.universal import variant_of

@@ -14,6 +14,7 @@ import sympy
 
 from compiler import runtime
 from compiler.api import simulate
+from compiler.cache.c_code import compile_c
 from compiler.lower import ccodegen
 from compiler.lower.codegen import write_module
 from compiler.model import interpolation
@@ -180,7 +181,7 @@ def test_generated_c_and_python_modules_compute_the_same_numbers(tmp_path):
     model, lib = project(tmp_path)
     compiled = compile_spec(f"{model}:Parabola", [str(lib)]).model
     vm = runtime.simulate(compiled, 2.0, **TIGHT)
-    native = ccodegen.compile_c(compiled, tmp_path / "c")
+    native = compile_c(compiled, tmp_path / "c")
     assert native.metadata["codegen"] == "c"
     in_c = runtime.simulate(native, 2.0, **TIGHT)
     np.testing.assert_allclose(in_c.values, vm.values, rtol=1e-12, atol=1e-14)

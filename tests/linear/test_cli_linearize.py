@@ -72,3 +72,10 @@ def test_bode_plot(tmp_path):
     path = tmp_path / "bode.png"
     assert linearize("Linear.MassSpringDamper", "--outputs", "mass.s", "mass.v", "--plot", str(path)) == 0
     assert path.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and path.stat().st_size > 20_000
+
+
+def test_an_input_whose_derivative_is_needed_is_refused_where_it_is_differentiated(capsys):
+    assert linearize("Linear.PositionDriven") == 1
+    err = capsys.readouterr().err
+    assert "PositionDriven.dyad:8:3: error: input `u` of `Linear.PositionDriven` would need its time " \
+           "derivative (`x` follows it and is differentiated)" in err

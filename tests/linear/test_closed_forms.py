@@ -133,3 +133,18 @@ def test_minimal_realization_drops_the_unobservable_mode():
     assert len(full.states) == 3 and len(minimal.states) == 2      # the opened integrator
     for w in (0.2, 2.0):
         assert frequency_response(minimal, w)[0, 0] == pytest.approx(plant(1j * w), rel=1e-9)
+
+
+def test_from_the_cache_the_same_linear_model():
+    """With the compiled model in the compilation cache, linearize reads it from there (no flat
+    model, no compile) and gives the same matrices as a fresh compilation."""
+    from compiler.cache import models
+    from compiler.pipeline import compile_or_load
+    compile_or_load("Hard.CartesianPendulum", MODELS)
+    if models.load("Hard.CartesianPendulum", MODELS) is None:
+        pytest.skip("the compilation cache is off (DYADC_CACHE_DIR=off)")
+    cached = linearize_spec("Hard.CartesianPendulum", Request(outputs=("lambda", "y")), lib_dirs=MODELS)
+    compiled = linearize("Hard.CartesianPendulum", outputs=("lambda", "y"))
+    for key in "ABCD":
+        assert np.array_equal(getattr(cached, key), getattr(compiled, key))
+    assert cached.states == compiled.states and cached.outputs == ["lambda", "y"]

@@ -122,7 +122,7 @@ def test_installed_dyadc_simulates_the_excavator_from_an_empty_folder(installed,
     # when the path is too long for a #! line, hence "within the first lines")
     assert str(env_dir / "bin" / "python") in "\n".join(dyadc.read_text().splitlines()[:3])
     _run([dyadc, "simulate", EXCAVATOR, "--stop", "0.5", "--output", "excavator.csv"], cwd=work, env=env)
-    assert sorted(p.name for p in work.iterdir()) == ["excavator.csv"]
+    assert sorted(p.name for p in work.iterdir()) == ["excavator.csv", "excavator.csv.json"]   # + sidecar
     with open(work / "excavator.csv", newline="") as handle:
         rows = list(csv.reader(handle))
     final = dict(zip(rows[0], map(float, rows[-1])))

@@ -106,7 +106,8 @@ def test_scene_outputs_writes_csv_png_and_gif(excavator, monkeypatch, tmp_path):
     monkeypatch.setattr(scene_outputs, "POINTS", 6)
     monkeypatch.setattr(scene_outputs, "FRAMES", 3)
     lines = scene_outputs.write_scene_outputs(str(tmp_path))
-    assert sorted(os.listdir(tmp_path)) == ["excavator.csv", "excavator.gif", "excavator.png"]
+    assert sorted(os.listdir(tmp_path)) == ["excavator.csv", "excavator.csv.json", "excavator.gif",
+                                            "excavator.png"]
     header = (tmp_path / "excavator.csv").read_text().splitlines()[0].split(",")
     assert header[0] == "time" and "soil.m_load" in header and len(header) > 600
     assert len(frames_of(tmp_path / "excavator.gif")) == 3

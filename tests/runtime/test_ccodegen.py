@@ -14,7 +14,7 @@ from compiler import runtime
 from compiler.lower import ccodegen
 from compiler.lower.codegen import write_module
 from compiler.lower.to_casadi import lower
-from compiler.simulate import compile_model
+from tests.runtime.lowered import compile_model
 
 needs_cc = pytest.mark.skipif(ccodegen.find_compiler() is None, reason="no C compiler")
 

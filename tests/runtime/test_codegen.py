@@ -107,7 +107,7 @@ print(rc._runtime.__name__, float(r["C.v"][-1]), "sympy" in sys.modules)
 
 
 def test_compiled_model_written_twice_gives_identical_modules(tmp_path):
-    from compiler.simulate import compile_model
+    from tests.runtime.lowered import compile_model
     for out in ("a", "b"):
         write_module(compile_model(systems.rc_circuit()), "rc", tmp_path / out)
     assert (tmp_path / "a" / "rc.py").read_bytes() == (tmp_path / "b" / "rc.py").read_bytes()

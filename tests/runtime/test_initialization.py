@@ -9,7 +9,7 @@ from tests.runtime import runtime_systems as systems
 from compiler import runtime
 from compiler.errors import SimulationError
 from compiler.lower.to_casadi import lower
-from compiler.simulate import simulate_reduced
+from tests.runtime.lowered import simulate_reduced
 
 
 def test_redundant_but_consistent_conditions_are_accepted():

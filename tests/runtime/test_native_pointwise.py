@@ -15,6 +15,7 @@ import pytest
 from tests.runtime import runtime_systems as systems
 from tests.runtime.test_outputs_vectorized import points, small_model
 from compiler import runtime
+from compiler.cache import c_code, c_libraries
 from compiler.lower import ccodegen
 from compiler.lower.to_casadi import lower
 from compiler.runtime import outputs, polishing
@@ -30,7 +31,7 @@ def cache(tmp_path, monkeypatch):
 
 
 def native(model: runtime.CompiledModel) -> runtime.CompiledModel:
-    compiled = ccodegen.compile_c(model)
+    compiled = c_code.compile_c(model)
     assert compiled.metadata["codegen"] == "c"
     return compiled
 
@@ -147,7 +148,7 @@ def test_a_library_without_the_pointwise_functions_leaves_them_on_the_vm(tmp_pat
         generator.add(ccodegen.state_jacobian(dae))
         generator.generate(scratch + os.sep)
         source = (Path(scratch) / "dyad_dae.c").read_text()
-    library = ccodegen.build_library(source, ccodegen.find_compiler(), tmp_path / "old")
+    library = c_code.build_library(source, ccodegen.find_compiler(), tmp_path / "old")
     old = vm.with_native_library(library)
     assert old.native_dae() is not None and old.native_function("outputs") is None
     xs, zs, times = points(vm, 6)
@@ -159,15 +160,14 @@ def test_a_library_without_the_pointwise_functions_leaves_them_on_the_vm(tmp_pat
 def test_an_entry_from_before_the_pointwise_functions_is_not_reused(tmp_path):
     """A cached model links to its library's entry (compiler/cache/native.py); an entry written
     when libraries held only the DAE (format 1) must fail validation, so that it is rebuilt."""
-    from compiler.lower import c_cache
     folder, key = tmp_path / "c", "0123456789abcdef0123456789abcdef"
 
     def build(scratch):
         (scratch / "lib.so").write_bytes(b"\x7fELF not really")
         return scratch / "lib.so"
-    library, built = c_cache.fetch_or_build(folder, key, build)
-    assert built and c_cache.valid_entry(folder, key) == library
+    library, built = c_libraries.fetch_or_build(folder, key, build)
+    assert built and c_libraries.valid_entry(folder, key) == library
     record = folder / f"dyad_{key}.json"
     old = json.loads(record.read_text())
     record.write_text(json.dumps({**old, "format": 1}))
-    assert c_cache.valid_entry(folder, key) is None
+    assert c_libraries.valid_entry(folder, key) is None

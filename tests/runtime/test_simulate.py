@@ -14,7 +14,7 @@ from compiler.runtime.idas import integrator_options
 from compiler.errors import DyadError, SimulationError
 from compiler.model.flat import TIME
 from compiler.lower.to_casadi import lower
-from compiler.simulate import compile_model, simulate_model, simulate_reduced
+from tests.runtime.lowered import compile_model, simulate_model, simulate_reduced
 from compiler.structure.reduced import InitialProblem, ReducedSystem
 
 

@@ -72,8 +72,9 @@ def test_the_next_call_does_not_watch_a_bound_already_warned_of():
 
 def test_an_event_is_logged_and_the_run_goes_on_from_it():
     run = started(lower(draining()), stop=3.0, points=2)
-    on_event(run, call_from(run, 3.0), Stop("event", 0.5, np.array([0.5]), np.zeros(0), what="x > 0.5"))
-    assert run.events == [{"time": 0.5, "event": "x > 0.5"}]
+    on_event(run, call_from(run, 3.0), Stop("event", 0.5, np.array([0.5]), np.zeros(0), what="x > 0.5",
+                                            direction=1))
+    assert run.events == [{"time": 0.5, "event": "x > 0.5", "direction": "rising"}]
     assert run.t == 0.5 and run.restarts_here == 0
 
 
@@ -158,9 +159,6 @@ def recording(calls: list, stops: list):
 
         def __init__(self, model, options, watch, tally):
             self.watch = watch
-
-        def derivative(self, x, z, p, t):
-            return -np.ones(1)
 
         def advance(self, call: Call) -> Stop:
             calls.append(call)

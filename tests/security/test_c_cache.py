@@ -18,7 +18,8 @@ from pathlib import Path
 
 import pytest
 
-from compiler.lower import c_cache
+from compiler.cache import c_libraries as c_cache
+from compiler.cache.c_code import compile_c
 
 from compiler.lower import ccodegen
 from compiler.lower.to_casadi import lower
@@ -161,6 +162,6 @@ def test_a_cache_folder_of_another_user_is_refused(tmp_path, monkeypatch):
     cache.mkdir()
     monkeypatch.setattr(c_cache.os, "getuid", lambda: cache.stat().st_uid + 1)
     with pytest.warns(ccodegen.CodegenWarning, match="belongs to another user"):
-        model = ccodegen.compile_c(lower(systems.rc_circuit()), cache)
+        model = compile_c(lower(systems.rc_circuit()), cache)
     assert model.native_library is None and model.metadata["codegen"] == "vm"
     assert list(cache.iterdir()) == []

@@ -11,7 +11,7 @@ import pytest
 
 from compiler import api
 from compiler.errors import DyadError, SimulationError
-from compiler.model.run_checks import run_parameter_values
+from compiler.run_checks import run_parameter_values
 from compiler.model.run_failures import _candidates, _solved_for, diagnose
 
 # two coupled bodies: the mass matrix [[m1, c cos(th)], [c cos(th), m2]] stays regular

@@ -7,7 +7,8 @@ import pytest
 
 from compiler.pipeline import flatten_spec
 from compiler.structure import differentiate
-from compiler.structure.differentiate import free_symbols, partial
+from compiler.model.symbols import free_symbols
+from compiler.structure.differentiate import partial
 from compiler.structure.reduce import analyse
 
 x, y, z, t = sympy.symbols("x y z t")
@@ -44,3 +45,11 @@ def test_every_partial_of_the_excavator_equals_sympy_diff():
     pairs = [(e, s) for e in system.equations for s in e.free_symbols]
     assert len(pairs) > 1000
     assert all(partial(e, s) == sympy.diff(e, s) for e, s in pairs)
+
+
+def test_free_symbols_memo_limit_clears_and_recomputes(monkeypatch):
+    from compiler.model import symbols
+    monkeypatch.setattr(symbols, "_MEMO_LIMIT", 3)
+    for expr in EXPRESSIONS:
+        assert free_symbols(expr) == expr.free_symbols
+    assert len(symbols._free_memo) <= 3 + 40

@@ -381,11 +381,11 @@ def test_without_carried_variants_each_state_set_is_made_once_from_the_universal
 @pytest.mark.skipif(__import__("compiler.lower.ccodegen", fromlist=["x"]).find_compiler() is None,
                     reason="no C compiler")
 def test_c_code_run_stays_in_c_code_in_every_state_set(tmp_path, monkeypatch):
-    from compiler.lower.ccodegen import use_c_code
+    from compiler.cache.c_code import compile_c
     monkeypatch.setenv("DYADC_CACHE", str(tmp_path / "cache"))
     vm = api.compile("StructureModels.CartesianPendulumHigh", lib_dirs=(str(MODELS),))
     native = api.compile("StructureModels.CartesianPendulumHigh", lib_dirs=(str(MODELS),))
-    native.model = use_c_code(native.model)
+    native.model = compile_c(native.model)
     a = api.simulate_compiled(vm, 3.0, rtol=1e-8, atol=1e-8, points=301)
     b = api.simulate_compiled(native, 3.0, rtol=1e-8, atol=1e-8, points=301)
     assert len(b.stats["state_switches"]) >= 4

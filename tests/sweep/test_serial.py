@@ -115,13 +115,15 @@ def test_to_pandas_is_lazy_and_says_when_pandas_is_missing(decay, monkeypatch):
     assert isinstance(frame, pd.DataFrame) and list(frame.columns) == ["sample", "k", "time", "x"]
 
 
-def test_the_progress_bar_changes_no_number(decay, capsys):
+def test_a_progress_callback_sees_every_sample_and_changes_no_number(decay, capsys):
+    from compiler.cli.progress import SweepProgress
     design = {"k": [0.5, 1.0, 1.5], "c": [0.2, -2.0]}
-    quiet = run(decay, design, progress=False, points=401, stop=3.0)
-    assert "samples" not in capsys.readouterr().err
-    loud = run(decay, design, progress=True, points=401, stop=3.0)
-    bar = capsys.readouterr().err
-    assert "6/6 samples, 3 failed" in bar
+    quiet = run(decay, design, points=401, stop=3.0)
+    assert capsys.readouterr().err == ""                  # the sweep itself prints nothing
+    bar = SweepProgress(6, enabled=True)
+    loud = run(decay, design, points=401, stop=3.0, on_sample=lambda o: bar.advance(1, 0 if o.ok else 1))
+    bar.close()
+    assert "6/6 samples, 3 failed" in capsys.readouterr().err
     for sample, outcome in quiet.outcomes.items():
         other = loud.outcomes[sample]
         assert outcome.ok == other.ok and outcome.time_reached == other.time_reached

@@ -8,6 +8,22 @@ import pytest
 from compiler.units.system import convert_value, parse_unit
 
 SILENT = {
+    "a model written without units": """
+    component Model
+      variable x::Real
+      variable v::Real
+    relations
+      der(x) = v + log(x)
+      der(v) = -x
+    end
+    """,
+    "a function of time alone": """
+    component Model
+      variable y::Real
+    relations
+      y = sin(time) + exp(-time) + cos(2 * time)
+    end
+    """,
     "an EMF with a torque constant in N.m/A and a speed in rad/s": """
     component Model
       parameter k::Real(units = "N.m/A") = 0.1

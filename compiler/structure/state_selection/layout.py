@@ -14,7 +14,8 @@ from typing import TYPE_CHECKING, Callable
 
 from compiler.runtime.variants import selection_output
 from compiler.structure.differentiate import partial
-from compiler.structure.dummy_derivatives import base_variable, candidate_order, first_level, next_rows
+from compiler.structure.dummy_derivatives import (base_variable, candidate_order, declared_priority, first_level,
+                                                   next_rows)
 from compiler.structure.state_selection.folds import alias_folds
 from compiler.structure.indexed import IndexedSystem
 from compiler.structure.reduced import Assignment
@@ -43,11 +44,10 @@ def choice_priority(analysis: Analysis) -> Callable[[int], int]:
     diff_to_eq = system.diff_to_eq()
     differentiated = {diff_to_var[d] for e in range(system.n_eqs) if diff_to_eq[e] < 0
                       for d in system.incidence[e] if diff_to_var[d] >= 0}
+    declared = declared_priority(system, analysis.priorities)
 
     def priority(v: int) -> int:
-        base = base_variable(system, v, diff_to_var)
-        declared = analysis.priorities.get(system.names[base], 0)
-        return 2 * declared - (0 if base in differentiated else 1)
+        return 2 * declared(v) - (0 if base_variable(system, v, diff_to_var) in differentiated else 1)
     return priority
 
 

@@ -1,10 +1,10 @@
-"""compiler.structure.collection: the compiler's garbage-collection thresholds are raised inside
+"""compiler.model.collection: the compiler's garbage-collection thresholds are raised inside
 and the caller's setting comes back afterwards, also when nested or on an error."""
 import gc
 
 import pytest
 
-from compiler.structure.collection import YOUNG_THRESHOLD, fewer_collections
+from compiler.model.collection import YOUNG_THRESHOLD, fewer_collections
 
 
 @pytest.fixture

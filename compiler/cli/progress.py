@@ -1,5 +1,5 @@
-"""One progress line for a whole sweep on stderr: samples done, failed, elapsed, estimated rest.
-It only watches results arrive; it never touches a run (runs are made with progress=False)."""
+"""`dyadc sweep --progress`: one progress line for a whole sweep on stderr (samples done, failed,
+elapsed, estimated rest), fed by the sweep's on_sample callback; it never touches a run."""
 from __future__ import annotations
 
 import sys

@@ -1,6 +1,6 @@
 """The cache of compiled C libraries (`--codegen c`): one validated entry per content key.
 
-Folder: `c/` in the compilation cache (compiler/cache/store.py: $DYADC_CACHE_DIR, else the user's
+Folder: `c/` in the compilation cache (store.py: $DYADC_CACHE_DIR, else the user's
 cache directory), or $DYADC_CACHE when set (the older name, for this folder alone); made private
 (mode 0700), a folder owned by another user is refused. With the cache turned off
 (DYADC_CACHE_DIR=off) libraries are built in a temporary folder removed when the process ends.

@@ -2,11 +2,10 @@
 
 Flattening and the structure passes allocate hundreds of thousands of long-lived sympy nodes.
 With Python's default thresholds (a young collection every 700 allocations, older generations
-every 10 of those) the collector re-scans that growing heap again and again: on the 128-link
-chain a quarter of the compile time (1.4 of 6 s CPU) went to collections that found almost
-nothing. Inside `fewer_collections()` a young collection runs every 50,000 allocations instead;
-cycles are still collected, only less often. Nested and concurrent uses raise the threshold once
-and restore the caller's setting when the last one leaves.
+every 10 of those) the collector re-scans that growing heap again and again, finding almost
+nothing (docs/scaling.md). Inside `fewer_collections()` a young collection runs every 50,000
+allocations instead; cycles are still collected, only less often. Nested and concurrent uses
+raise the threshold once and restore the caller's setting when the last one leaves.
 """
 from __future__ import annotations
 

@@ -1,0 +1,142 @@
+"""Typed AST of definitions (components, connectors, types, enums, functions, structs,
+analyses) and of a whole file. Metadata JSON is kept as a canonical JSON string
+(`json.dumps(obj, sort_keys=True)`) to stay hashable; `metadata_dict()` reads it."""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass, field
+from typing import Union
+
+from compiler.errors import Span
+from compiler.syntax.ast_declarations import Declaration, Extends, TypeSpec, TypedDecl
+from compiler.syntax.ast_expressions import NO_SPAN
+from compiler.syntax.ast_relations import Relation
+
+
+def metadata_dict(metadata: str | None) -> dict:
+    return json.loads(metadata) if metadata else {}
+
+
+@dataclass(frozen=True)
+class ConnectorField:
+    name: str
+    kind: str                                   # 'potential' | 'flow' | 'input' | 'output' | 'stream' | 'path'
+    type: TypeSpec
+    doc: str | None = None
+    metadata: str | None = None
+    span: Span | None = NO_SPAN
+    link: str | None = None
+
+
+@dataclass(frozen=True)
+class ConnectorDef:
+    name: str
+    fields: tuple[ConnectorField, ...]
+    partial: bool = False
+    doc: str | None = None
+    metadata: str | None = None
+    span: Span | None = NO_SPAN
+
+
+@dataclass(frozen=True)
+class SignalConnectorDef:
+    """`connector RealInput = input Real` (optionally with type modifiers / dims)."""
+    name: str
+    causality: str                              # 'input' | 'output'
+    type: TypeSpec
+    doc: str | None = None
+    metadata: str | None = None
+    span: Span | None = NO_SPAN
+    link: str | None = None
+
+
+@dataclass(frozen=True)
+class TypeDef:
+    """`type Length = Real(units = "m")`."""
+    name: str
+    base: TypeSpec
+    doc: str | None = None
+    span: Span | None = NO_SPAN
+
+
+@dataclass(frozen=True)
+class EnumDef:
+    name: str
+    members: tuple[str, ...]
+    doc: str | None = None
+    span: Span | None = NO_SPAN
+    # Per member, the fields it carries (`| Oil(density::Real = 900)`); () when none has any.
+    fields: tuple[tuple[TypedDecl, ...], ...] = ()
+
+
+@dataclass(frozen=True)
+class FunctionParam:
+    name: str | None
+    type: TypeSpec
+
+
+@dataclass(frozen=True)
+class FunctionTypeDef:
+    """`type RealFunction = func(::Real)::Real`: the type of a function-valued parameter."""
+    name: str
+    params: tuple[FunctionParam, ...]
+    result: TypeSpec
+    doc: str | None = None
+    span: Span | None = NO_SPAN
+
+
+@dataclass(frozen=True)
+class StructDef:
+    """`struct Name  field::Type = default ... end`: a record of named values."""
+    name: str
+    fields: tuple[TypedDecl, ...]
+    doc: str | None = None
+    span: Span | None = NO_SPAN
+
+
+@dataclass(frozen=True)
+class ComponentDef:
+    name: str
+    extends: tuple[Extends, ...] = ()
+    declarations: tuple[Declaration, ...] = ()
+    relations: tuple[Relation, ...] = ()
+    partial: bool = False
+    prefix: str | None = None                   # None | 'example' | 'test'
+    doc: str | None = None
+    metadata: str | None = None
+    span: Span | None = NO_SPAN
+    # `external component`: behaviour implemented outside Dyad (in Julia); only its interface here
+    external: bool = False
+
+
+@dataclass(frozen=True)
+class AnalysisDef:
+    """`analysis Name extends TransientAnalysis(stop = 10, ...) ... end` (tier B; kept, not run)."""
+    name: str
+    extends: tuple[Extends, ...] = ()
+    declarations: tuple[Declaration, ...] = ()
+    relations: tuple[Relation, ...] = ()
+    partial: bool = False
+    doc: str | None = None
+    metadata: str | None = None
+    span: Span | None = NO_SPAN
+
+
+@dataclass(frozen=True)
+class Using:
+    """`using Package: a, b` or `using Package`."""
+    package: str
+    names: tuple[str, ...] = ()
+    span: Span | None = NO_SPAN
+
+
+Definition = Union[ComponentDef, ConnectorDef, SignalConnectorDef, TypeDef, EnumDef, AnalysisDef,
+                   FunctionTypeDef, StructDef]
+
+
+@dataclass(frozen=True)
+class File:
+    path: str = field(compare=False)
+    usings: tuple[Using, ...] = ()
+    definitions: tuple[Definition, ...] = ()
+    span: Span | None = NO_SPAN

@@ -1,0 +1,92 @@
+"""Typed AST of relations: equations, guesses, connections, and structural for/if/switch."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Union
+
+from compiler.errors import Span
+from compiler.syntax.ast_expressions import NO_SPAN, Expr, Iterator, Ref
+
+
+@dataclass(frozen=True)
+class Equation:
+    lhs: "Expr"
+    rhs: "Expr"
+    initial: bool = False
+    doc: str | None = None
+    span: Span | None = NO_SPAN
+    metadata: str | None = None
+    link: str | None = None
+
+
+@dataclass(frozen=True)
+class Guess:
+    target: Ref
+    value: "Expr"
+    span: Span | None = NO_SPAN
+    doc: str | None = None
+
+
+@dataclass(frozen=True)
+class Connect:
+    """`connect(a, b, ...)`; `u: analysis_point(a, b)` is the same connection, named `u` for
+    linear analyses (`analysis_point` holds the name)."""
+    refs: tuple[Ref, ...]
+    doc: str | None = None
+    span: Span | None = NO_SPAN
+    metadata: str | None = None           # diagram routing JSON after `connect(...)`
+    link: str | None = None
+    analysis_point: str | None = None
+
+
+@dataclass(frozen=True)
+class Continuity:
+    """`continuity(a.medium, b.medium)`: the media are one; recorded, implies no equation."""
+    refs: tuple["Expr", ...]
+    doc: str | None = None
+    span: Span | None = NO_SPAN
+    metadata: str | None = None
+    link: str | None = None
+
+
+@dataclass(frozen=True)
+class ForLoop:
+    iterators: tuple[Iterator, ...]
+    body: tuple["Relation", ...]
+    span: Span | None = NO_SPAN
+    doc: str | None = None
+
+
+@dataclass(frozen=True)
+class IfBranch:
+    condition: "Expr"
+    body: tuple["Relation", ...]
+    span: Span | None = NO_SPAN
+
+
+@dataclass(frozen=True)
+class IfRelation:
+    branches: tuple[IfBranch, ...]              # `if` then each `elseif`
+    otherwise: tuple["Relation", ...] = ()
+    span: Span | None = NO_SPAN
+    doc: str | None = None
+
+
+@dataclass(frozen=True)
+class SwitchCase:
+    names: tuple[str, ...]                      # `case A, B`: the enum members (maybe qualified)
+    body: tuple["Relation", ...]
+    span: Span | None = NO_SPAN
+
+
+@dataclass(frozen=True)
+class Switch:
+    """`switch subject case A ... case B ... else ... end` on a structural (enum) parameter."""
+    subject: "Expr"
+    cases: tuple[SwitchCase, ...]
+    otherwise: tuple["Relation", ...] = ()
+    span: Span | None = NO_SPAN
+    doc: str | None = None
+
+
+Relation = Union[Equation, Guess, Connect, Continuity, ForLoop, IfRelation, Switch]
