@@ -12,7 +12,8 @@ package `P` (`package_provider`). The user's roots (2, 3, then a model file's fo
 their order, then the shipped library: a user's package `P` *replaces* the shipped `P` (a
 note names both folders), it never merges with it. The base library `Dyad` is the exception: it is
 always the shipped one. A user folder `P` that only adds definitions to the shipped `P` (none of its
-names is one of the shipped package's, and it has no Project.toml) is a located error saying how to
+names is one of the shipped package's, and it has no Project.toml, nor is it the `dyad/` folder of a
+Julia project that has one) is a located error saying how to
 name its own package (`check_user_packages`).
 
 Every folder on this path was named by the user (or ships with dyadc), so its `dyad_functions.py`
@@ -151,13 +152,21 @@ def check_user_packages(roots: Sequence[Root]) -> None:
         if package == BASE_PACKAGE or user is None or user.origin not in USER_ORIGINS:
             continue
         folder = user.path / package
-        if not (folder / PROJECT_FILE).is_file():
+        if not _is_julia_project(folder):
             added = _definition_names(folder)
             if added and not set(added) & set(_definition_names(shipped_folder / package)):
                 raise _adds_to_shipped_error(package, folder, shipped_folder / package, added)
         warnings.warn(PackageNote(f"note: package `{package}` from {folder} replaces the shipped "
                                   f"one in {shipped_folder / package} (a package is found in one "
                                   f"folder; nothing of the shipped one is used)"), stacklevel=1)
+
+
+def _is_julia_project(folder: Path) -> bool:
+    """`folder` has a Project.toml, or is the `dyad/` folder of a Julia project that has one."""
+    if (folder / PROJECT_FILE).is_file():
+        return True
+    resolved = folder.resolve()
+    return resolved.name == "dyad" and (resolved.parent / PROJECT_FILE).is_file()
 
 
 def _adds_to_shipped_error(package: str, folder: Path, shipped: Path,

@@ -211,3 +211,18 @@ def test_a_project_file_that_is_not_toml_is_a_located_error(tmp_path):
         library.lookup("ElectricalComponents.Resistor", "Mine", file)
     assert (caught.value.span.file, caught.value.span.line) == (str(project), 2)
     assert caught.value.message.startswith("package `Mine` has a Project.toml that is not TOML: ")
+
+
+def test_the_dyad_folder_of_a_julia_project_replaces_the_shipped_package(tmp_path):
+    """A published library linked in as `lib/ElectricalComponents -> ElectricalComponents.jl/dyad`
+    is a Julia package (its Project.toml is beside dyad/): it replaces ours, even when it only
+    holds new names."""
+    project = tmp_path / "ElectricalComponents.jl"
+    _write(project / "Project.toml", 'name = "ElectricalComponents"\n')
+    _write(project / "dyad" / "TwoResistors.dyad", "component TwoResistors\nend\n")
+    (tmp_path / "lib").mkdir()
+    (tmp_path / "lib" / "ElectricalComponents").symlink_to(project / "dyad", target_is_directory=True)
+    with pytest.warns(PackageNote, match="package `ElectricalComponents` from "):
+        library = Library([tmp_path / "lib"])
+    assert library.find("ElectricalComponents.TwoResistors") is not None
+    assert library.find("ElectricalComponents.Resistor") is None
