@@ -101,7 +101,7 @@ def check_not_differentiated(flat: FlatSystem, analysis, inputs: list[str]) -> N
     equation with it that the index reduction differentiated) would need its own time derivative,
     which a parameter does not have (it is held constant): refuse, located, rather than give a
     linear model without those terms."""
-    wanted = {symbol(name) for name in inputs}
+    wanted = {sympy.Symbol(name) for name in inputs}
     differentiated = set(flat.derivatives.values())
     for name, expression in analysis.alias.eliminated.items():
         used = sorted(s.name for s in sympy.sympify(expression).free_symbols & wanted)
