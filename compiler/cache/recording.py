@@ -51,6 +51,8 @@ class RecordingLibrary(Library):
         for name in self.searched_names:
             package_parts = name.split(".")[:-1]
             found.update(("folder", str(root.joinpath(*package_parts))) for root in self.roots)
+            # which root provides the top-level package (a user's package replaces a shipped one)
+            found.update(("folder", str(root.joinpath(*package_parts[:1]))) for root in self.roots)
         for name in self.plugin_packages:
             package_parts = name.split(".")[:-1]
             found.update(("plugin", str(root.joinpath(*package_parts) / FUNCTION_PLUGIN_FILE))

@@ -1,8 +1,13 @@
 """The library: finds definitions by qualified name, parsing only the files it needs.
 
-Roots, searched in order (compiler.model.library_path): the library shipped with dyadc, each `-L DIR`
-(`lib_dirs`), each folder of the environment variable DYADC_PATH; then, source-only, the folder of
-a model file given by path. Folders are namespaces: `root/A/B/Name.dyad` defines `A.B.Name`; when
+Roots (compiler.model.library_path): the library shipped with dyadc, each `-L DIR` (`lib_dirs`),
+each folder of the environment variable DYADC_PATH; then, source-only, the folder of a model file
+given by path. A top-level package is one unit found in one root (`package_provider`: a user's
+package replaces the shipped one); names at the top level are searched in every root, in order.
+Names used inside package P resolve in P (innermost subpackage first), then qualified by a package
+P may use (any package on the path, or only those of P's Project.toml [deps] when it declares
+them), then in the base library `Dyad`; an unqualified name never leaves P and the base library.
+Folders are namespaces: `root/A/B/Name.dyad` defines `A.B.Name`; when
 no file is named after the definition, the other `.dyad` files of the folder are searched (a cheap
 text scan decides which ones are worth parsing). Every parsed file is cached; `parse_count` counts
 real parses (tests use it to check laziness). Python function plugins (`dyad_functions.py`) are
@@ -22,10 +27,11 @@ from compiler.model.functions import GLOBAL_REGISTRY, FunctionImpl, FunctionRegi
 from compiler.syntax.modelica_forms import modelica_form_error
 from compiler.julia.functions import JuliaFunction, UnreadableFunction, julia_source_files, \
     read_julia_functions
-from compiler.model.library_path import LIBRARY_PATH_VARIABLE, Root, describe, search_path
+from compiler.model.library_path import BASE_PACKAGE, LIBRARY_PATH_VARIABLE, PROJECT_FILE, Root, \
+    check_user_packages, describe, package_provider, search_path
 from compiler.syntax import ast
 
-STANDARD_PACKAGE = "Dyad"
+STANDARD_PACKAGE = BASE_PACKAGE
 PRIMITIVE_TYPES = ("Real", "Integer", "Boolean", "String")
 FUNCTION_PLUGIN_FILE = "dyad_functions.py"
 
@@ -67,9 +73,11 @@ class Library:
         self._files: dict[Path, ast.File] = {}
         self._texts: dict[Path, str] = {}
         self._found: dict[str, Resolved | None] = {}
-        self._lookup_cache: dict[tuple[str, int, str], Resolved | None] = {}
+        self._lookup_cache: dict[tuple, Resolved | None] = {}
         self.type_cache: dict[tuple, object] = {}     # used by compiler.model.instantiate
         self._julia: dict[str, dict] = {}             # package folder -> its Julia functions
+        self._providers: dict[str, Root | None] = {}  # top-level package -> the root providing it
+        self._dependencies: dict[str, set[str] | None] = {}   # top-level package -> its [deps]
 
     # -------------------------------------------------------------------------------- files
 
@@ -112,10 +120,54 @@ class Library:
         folder = Path(folder).resolve()
         if folder in self.roots:
             return
-        self.search_path.append(Root(folder, "model folder", runs_code=False))
+        root = Root(folder, "model folder", runs_code=False)
+        check_user_packages([*self.search_path, root])
+        self.search_path.append(root)
         self.roots.append(folder)
         self._found.clear()
         self._lookup_cache.clear()
+        self._providers.clear()
+        self._dependencies.clear()
+
+    def provider(self, package: str) -> Root | None:
+        """The root whose folder provides all of top-level package `package` (one root only)."""
+        if package not in self._providers:
+            self._providers[package] = package_provider(self.search_path, package)
+        return self._providers[package]
+
+    def roots_for(self, qualified_name: str) -> list[Path]:
+        """The roots that may define `qualified_name`: its package's one provider, or every root
+        for a name at the top level."""
+        head, dot, _ = qualified_name.partition(".")
+        if not dot:
+            return list(self.roots)
+        provider = self.provider(head)
+        return [provider.path] if provider is not None else []
+
+    def declared_dependencies(self, package: str) -> set[str] | None:
+        """The [deps] of top-level package `package`'s Project.toml, or None when it declares none."""
+        if package not in self._dependencies:
+            self._dependencies[package] = self._read_dependencies(package)
+        return self._dependencies[package]
+
+    def _read_dependencies(self, package: str) -> set[str] | None:
+        provider = self.provider(package) if package else None
+        if provider is None:
+            return None
+        text = self._text(provider.path / package / PROJECT_FILE)
+        if not text:
+            return None
+        import tomllib
+        try:
+            deps = tomllib.loads(text).get("deps")
+        except tomllib.TOMLDecodeError as err:
+            at = re.search(r"at line (\d+), column (\d+)", str(err))
+            line, column = (int(at[1]), int(at[2])) if at else (1, 1)
+            raise DyadError(f"package `{package}` has a {PROJECT_FILE} that is not TOML: "
+                            f"{str(err).split(' (at ')[0]}",
+                            Span(str(provider.path / package / PROJECT_FILE), line, column, line, column),
+                            hint="its [deps] table lists the packages it may name") from None
+        return set(deps) if isinstance(deps, dict) else None
 
     @property
     def user_roots(self) -> list[Path]:
@@ -136,7 +188,7 @@ class Library:
         *package_parts, name = qualified_name.split(".")
         package = ".".join(package_parts)
         header = re.compile(rf"(?<![\w.]){_DEFINITION_KEYWORDS}\s+{re.escape(name)}(?![\w])")
-        for root in self.roots:
+        for root in self.roots_for(qualified_name):
             folder = root.joinpath(*package_parts)
             named = folder / f"{name}.dyad"
             try:
@@ -166,32 +218,48 @@ class Library:
         for using in (file.usings if file else ()):
             if not using.names or head in using.names:
                 out.append(f"{using.package}.{name}")
-        out.append(name)
+        if "." in name or not package:       # an unqualified name never leaves its package
+            out.append(name)
         out.append(f"{STANDARD_PACKAGE}.{name}")
+        usable = self._usable_packages(package)
         seen: set[str] = set()
-        return [c for c in out if not (c in seen or seen.add(c))]
+        return [c for c in out if not (c in seen or seen.add(c))
+                and (usable is None or c.split(".", 1)[0] in usable or "." not in c)]
 
-    def lookup(self, name: str, package: str, file: ast.File | None) -> Resolved | None:
-        key = (package, id(file), name)
+    def _usable_packages(self, package: str) -> set[str] | None:
+        """The top-level packages names inside `package` may resolve into, or None for any: its
+        own, its declared dependencies and the base library when its Project.toml declares deps."""
+        head = package.split(".", 1)[0]
+        deps = self.declared_dependencies(head)
+        return None if deps is None else deps | {head, STANDARD_PACKAGE}
+
+    def lookup(self, name: str, package: str, file: ast.File | None,
+               kinds: tuple[type, ...] = ()) -> Resolved | None:
+        """The definition `name` means inside `package` (and `file`). With `kinds`, a definition of
+        another kind is passed over for a later candidate (a type position skips the component
+        `TranslationalComponents.Position` for the type `Dyad.Position`); if no candidate is of
+        those kinds, the first found is returned (its use reports the mismatch)."""
+        key = (package, id(file), name, kinds)
         if key in self._lookup_cache:
             return self._lookup_cache[key]
-        result = None
+        found = []
         if file is not None and "." not in name:
-            for definition in file.definitions:
-                if definition.name == name:
-                    result = Resolved(qualify(package, name), definition, package, file)
-                    break
-        if result is None:
-            for candidate in self._candidates(name, package, file):
-                result = self.find(candidate)
-                if result is not None:
-                    break
+            found = [Resolved(qualify(package, name), definition, package, file)
+                     for definition in file.definitions if definition.name == name][:1]
+        for candidate in self._candidates(name, package, file):
+            if found and (not kinds or isinstance(found[-1].definition, kinds)):
+                break
+            result = self.find(candidate)
+            if result is not None:
+                found.append(result)
+        chosen = [r for r in found if isinstance(r.definition, kinds)] if kinds else []
+        result = (chosen or found or [None])[0]
         self._lookup_cache[key] = result
         return result
 
     def resolve(self, name: str, package: str, file: ast.File | None, span: Span | None,
-                what: str = "type") -> Resolved:
-        found = self.lookup(name, package, file)
+                what: str = "type", kinds: tuple[type, ...] = ()) -> Resolved:
+        found = self.lookup(name, package, file, kinds)
         if found is None:
             suggest = self._suggest_component if what == "component type" else self._suggest_type
             raise DyadError(f"unknown {what} `{name}`", span, hint=suggest(name, package, file))
@@ -208,7 +276,7 @@ class Library:
                 known.update(d.name for d in parsed.definitions if isinstance(d, ast.ComponentDef))
         header = re.compile(r"(?<![\w.])component\s+(\w+)")
         for candidate in self._candidates(name, package, file):
-            for root in self.roots:
+            for root in self.roots_for(candidate):
                 folder = root.joinpath(*candidate.split(".")[:-1])
                 try:
                     paths = sorted(folder.glob("*.dyad")) if folder.is_dir() else []
@@ -225,7 +293,7 @@ class Library:
             known.update(d.name for d in file.definitions)
         for parsed in self._files.values():
             known.update(d.name for d in parsed.definitions)
-        for root in self.roots:
+        for root in self.roots_for(f"{STANDARD_PACKAGE}.{name}"):
             std = root / STANDARD_PACKAGE
             if std.is_dir():
                 for path in std.glob("*.dyad"):
@@ -274,7 +342,7 @@ class Library:
         package, _, name = qualified_name.rpartition(".")
         if not package or "." in package:
             return None
-        for root in self.roots:
+        for root in self.roots_for(qualified_name):
             if (root / package).is_dir():
                 found = self._julia_functions(root / package, package).get(qualified_name)
                 if found is not None:
@@ -301,8 +369,9 @@ class Library:
         """The plugin files for the package of `qualified_name` in the roots that may (or may
         not) run code."""
         package_parts = qualified_name.split(".")[:-1]
+        allowed = set(self.roots_for(qualified_name))
         plugins = (root.path.joinpath(*package_parts) / FUNCTION_PLUGIN_FILE
-                   for root in self.search_path if root.runs_code == runs_code)
+                   for root in self.search_path if root.runs_code == runs_code and root.path in allowed)
         return [plugin for plugin in plugins if plugin.is_file()]
 
     def _load_plugins_for(self, qualified_name: str) -> None:

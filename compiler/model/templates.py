@@ -159,7 +159,8 @@ def _resolve_value_type(spec: ast.TypeSpec, lexical: Lexical, depth: int = 0) ->
                         "interpolator) that dyadc cannot represent", spec.span,
                         hint="only `path` connector fields may hold Native values in dyadc; a "
                              "parameter or variable of this type needs Dyad's Julia runtime")
-    found = lexical.library.resolve(spec.name, lexical.package, lexical.file, spec.span)
+    found = lexical.library.resolve(spec.name, lexical.package, lexical.file, spec.span,
+                                    kinds=(ast.TypeDef, ast.EnumDef))
     definition = found.definition
     if isinstance(definition, ast.TypeDef):
         base = resolve_value_type(definition.base,

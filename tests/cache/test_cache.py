@@ -66,17 +66,50 @@ def test_an_edited_function_plugin_is_compiled_again(tmp_path):
 
 
 def test_a_file_added_where_the_library_looked_is_compiled_again(tmp_path):
-    """-L first -L second: CacheLib.Decay comes from `second` until `first` gets one."""
+    """-L first -L second: package CacheLib comes from `second` until `first` holds one (a package
+    is found in one folder, so `first`'s CacheLib then provides all of it)."""
     cache, second = tmp_path / "cache", small_library(tmp_path / "second")
     first = tmp_path / "first"
-    (first / "CacheLib").mkdir(parents=True)
+    first.mkdir()
     run = ("-L", first, "-L", second)
     before = dyadc(cache, *SCALED_RUN, *run)
+    small_library(first)
     write(first / "CacheLib" / "Decay.dyad", (second / "CacheLib" / "Decay.dyad").read_text()
           .replace("k::Real = 2.0", "k::Real = 0.5"))
     after = dyadc(cache, *SCALED_RUN, *run)
     assert before.code == after.code == 0 and after.compiled
-    assert after.final("d.x") != before.final("d.x")
+    assert before.final("d.x") == pytest.approx(math.exp(-2.0), rel=1e-8)
+    assert after.final("d.x") == pytest.approx(math.exp(-0.5), rel=1e-8)
+
+
+def test_a_package_that_replaces_a_shipped_one_is_compiled_again(tmp_path):
+    """A model compiled with the shipped TranslationalComponents is not served from the cache once
+    a folder on its path holds a TranslationalComponents of the user's (which replaces it)."""
+    cache, library = tmp_path / "cache", tmp_path / "lib"
+    write(library / "Pushed" / "Pushed.dyad", """
+        component Pushed
+          anchor = TranslationalComponents.Fixed(s0 = 2)
+          variable x::Real
+        relations
+          initial x = 0
+          der(x) = anchor.flange.s
+        end
+        """)
+    spec = ("simulate", "Pushed.Pushed", "--stop", "1", "--vars", "x", "-L", library)
+    before = dyadc(cache, *spec)
+    write(library / "TranslationalComponents" / "Fixed.dyad", """
+        component Fixed
+          flange = Flange()
+          parameter s0::Position = 0
+        relations
+          flange.s = 3 * s0
+        end
+        """)
+    after = dyadc(cache, *spec)
+    assert before.code == after.code == 0 and after.compiled, after.stderr
+    assert before.final("x") == pytest.approx(2.0, rel=1e-6)
+    assert after.final("x") == pytest.approx(6.0, rel=1e-6)
+    assert "note: package `TranslationalComponents` from" in after.stderr
 
 
 def _truncate(path):

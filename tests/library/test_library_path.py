@@ -156,7 +156,7 @@ def test_order_shipped_library_then_L_then_DYADC_PATH(tmp_path, monkeypatch):
     assert library.roots == [shipped_library_root(), first.resolve(), second.resolve()]
     assert [root.origin for root in library.search_path] == ["shipped library", "-L", "DYADC_PATH"]
     assert library.find("UserLib.Parts.Probe").file.span.file == str(first / "UserLib/Parts/Probe.dyad")
-    # a user folder cannot replace a shipped definition: the shipped library is searched first
+    # the base library Dyad is always the shipped one (a user package replaces any other: test_packages.py)
     shipped = library.find("Dyad.RealInput")
     assert Path(shipped.file.span.file).is_relative_to(shipped_library_root())
     _write(first / "Dyad" / "RealInput.dyad", "connector RealInput\n  potential v::Real\nend\n")
