@@ -151,6 +151,9 @@ def _special_case(tok: Token, expected: set[str], blocks: list[OpenBlock], token
     legacy = _legacy_form(tok, tokens, index, innermost, span)
     if legacy is not None:
         return legacy
+    generator = _generator_with_more_arguments(tok, tokens, index, expected, found, span)
+    if generator is not None:
+        return generator
     adjacent = tokens[index - 1] if 0 < index <= len(tokens) else None
     if prev is not None and prev.type == "DOCSTRING" and tok.type in ("END", "$END"):
         return DyadError("a docstring must be followed by the definition, declaration or relation "
@@ -217,6 +220,32 @@ def _legacy_form(tok: Token, tokens, index, innermost, span: Span) -> DyadError 
         return DyadError("`begin` is legacy Dyad syntax", _token_span(begin, span.file),
                          hint="the relations of a component follow the keyword `relations`")
     return None
+
+
+def _generator_with_more_arguments(tok: Token, tokens, index, expected: set[str], found: str,
+                                   span: Span) -> DyadError | None:
+    """`f(x[i] for i in 1:n, y)`: a bracketless generator is only ever a call's sole argument."""
+    previous = tokens[index - 1] if 0 < index <= len(tokens) else None
+    if previous is None or previous.type != "COMMA" or expected != {"NAME"}:
+        return None
+    depth, saw_for = 0, False
+    for earlier in reversed(tokens[:index - 1]):
+        if earlier.type in ("RPAR", "RSQB", "RBRACE"):
+            depth += 1
+        elif earlier.type in ("LPAR", "LSQB", "LBRACE"):
+            if depth == 0:
+                break
+            depth -= 1
+        elif earlier.type == "FOR" and depth == 0:
+            saw_for = True
+    else:
+        return None
+    if not saw_for or earlier.type != "LPAR":
+        return None
+    return DyadError(f"a generator `... for ...` must be the only argument of its call, found {found} "
+                     "after it", span,
+                     hint="put the generator in brackets to pass more arguments: "
+                          "`f([x[i] for i in 1:n], y)`")
 
 
 _VALUE_TOKENS = {"NAME", "NUMBER", "STRING", "LONG_STRING", "TRUE", "FALSE"}

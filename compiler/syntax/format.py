@@ -84,7 +84,8 @@ def format_expr(e) -> str:
     if isinstance(e, ast.ArrayLit):
         return _array(e)
     if isinstance(e, ast.Comprehension):
-        return f"[{format_expr(e.expr)} for {_iterators(e.iterators)}]"
+        inner = f"{format_expr(e.expr)} for {_iterators(e.iterators)}"
+        return inner if e.generator else f"[{inner}]"
     raise TypeError(f"not an expression node: {e!r}")
 
 

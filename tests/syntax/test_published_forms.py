@@ -7,6 +7,7 @@ import pytest
 from compiler.errors import DyadError
 from compiler.syntax import ast
 from compiler.syntax.format import format_file
+from compiler.syntax.format_comments import format_source
 from compiler.syntax.parser import parse_expression, parse_source
 
 N = ast.Number
@@ -210,3 +211,39 @@ def test_remainder_and_integer_division_bind_like_division(op):
 def test_capital_d_is_der_for_the_checks():
     err = error("component T\n  parameter k::Real = 1\nrelations\n  D(k) = 1\nend\n")
     assert "`D(k)` differentiates a parameter" in err.message
+
+
+# ------------------------------------------------------------------ generator arguments (issue 27)
+
+def _generator(expr, *iterators):
+    return ast.Comprehension(expr, tuple(ast.Iterator(v, it) for v, it in iterators), generator=True)
+
+
+def test_a_generator_argument_is_the_comprehension_of_its_call():
+    i_squared = ast.BinaryOp("^", ast.Ref((ast.RefPart("w", (ref("i"),)),)), N(2))
+    assert parse_expression("sum(w[i]^2 for i in 1:n)") == ast.Call(
+        "sum", (_generator(i_squared, ("i", ast.Range(N(1), ref("n")))),))
+    both = parse_expression("prod(k for i = 1:2, j ∈ 1:3)")
+    assert both == ast.Call("prod", (_generator(ref("k"), ("i", ast.Range(N(1), N(2))),
+                                                ("j", ast.Range(N(1), N(3)))),))
+
+
+def test_a_generator_argument_prints_back_without_brackets():
+    c = component("  parameter w::Real[3] = [1, 2, 3]\n  variable y::Real",
+                  "y = sum(w[i] * i  for i in 1:3)  # weighted")
+    text = format_source("component T\n  variable y::Real\nrelations\n"
+                         "  # the total\n  y = sum(w[i]   for i in 1:3)\nend\n", "t.dyad")
+    assert "  # the total\n  y = sum(w[i] for i in 1:3)\n" in text
+    assert c.relations[0].rhs.args[0].generator
+    assert parse_expression("sum([w[i] for i in 1:3])").args[0].generator is False
+
+
+def test_a_generator_must_be_the_only_argument():
+    err = error("component T\n  variable y::Real\nrelations\n  y = f(w[i] for i in 1:3, 2)\nend\n")
+    assert (err.span.line, err.span.column) == (4, 28)
+    assert "must be the only argument of its call, found number `2`" in err.message
+    assert "`f([x[i] for i in 1:n], y)`" in err.hint
+    err = error("component T\n  r = [R(k = w[i]) for i in 1:3, 2]\nend\n")
+    assert err.message == "expected a name, found number `2`"
+    err = error("component T\n  variable y::Real\nrelations\n  y = sum(for i in 1:3)\nend\n")
+    assert (err.span.line, err.span.column) == (4, 11) and "`for`" in err.message
