@@ -7,6 +7,7 @@ from lark import Token
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 
 from compiler.errors import DyadError, Note, Span
+from compiler.syntax.generator_forms import generator_with_more_arguments
 from compiler.syntax.modelica_forms import modelica_form_error
 
 _PUNCTUATION = {
@@ -109,6 +110,8 @@ def open_blocks(tokens: list[Token], upto: int) -> list[OpenBlock]:
                 stack.append(OpenBlock(kind.lower(), name, tok))
             elif kind == "FOR":
                 stack.append(OpenBlock("`for` loop", None, tok))
+            elif kind == "SWITCH":
+                stack.append(OpenBlock("`switch`", None, tok))
             elif kind == "IF" and _starts_if_block(prev, tok):
                 stack.append(OpenBlock("`if` block", None, tok))
             elif kind == "END" and stack:
@@ -135,7 +138,8 @@ def parse_error(err: UnexpectedInput, tokens: list[Token], filename: str) -> Dya
     special = _special_case(tok, expected, blocks, tokens, index, found, span)
     if special is not None:
         return special
-    if "END" in expected and blocks and (tok.type == "$END" or tok.type in _DEFINITION_STARTS):
+    if ("END" in expected or "CASE_END" in expected) and blocks \
+            and (tok.type == "$END" or tok.type in _DEFINITION_STARTS):
         block = blocks[-1]
         return DyadError(
             f"expected `end` to close {block.title()} (opened at {block.token.line}:"
@@ -151,7 +155,7 @@ def _special_case(tok: Token, expected: set[str], blocks: list[OpenBlock], token
     legacy = _legacy_form(tok, tokens, index, innermost, span)
     if legacy is not None:
         return legacy
-    generator = _generator_with_more_arguments(tok, tokens, index, expected, found, span)
+    generator = generator_with_more_arguments(tok, tokens, index, expected, found, span)
     if generator is not None:
         return generator
     adjacent = tokens[index - 1] if 0 < index <= len(tokens) else None
@@ -222,32 +226,6 @@ def _legacy_form(tok: Token, tokens, index, innermost, span: Span) -> DyadError 
     return None
 
 
-def _generator_with_more_arguments(tok: Token, tokens, index, expected: set[str], found: str,
-                                   span: Span) -> DyadError | None:
-    """`f(x[i] for i in 1:n, y)`: a bracketless generator is only ever a call's sole argument."""
-    previous = tokens[index - 1] if 0 < index <= len(tokens) else None
-    if previous is None or previous.type != "COMMA" or expected != {"NAME"}:
-        return None
-    depth, saw_for = 0, False
-    for earlier in reversed(tokens[:index - 1]):
-        if earlier.type in ("RPAR", "RSQB", "RBRACE"):
-            depth += 1
-        elif earlier.type in ("LPAR", "LSQB", "LBRACE"):
-            if depth == 0:
-                break
-            depth -= 1
-        elif earlier.type == "FOR" and depth == 0:
-            saw_for = True
-    else:
-        return None
-    if not saw_for or earlier.type != "LPAR":
-        return None
-    return DyadError(f"a generator `... for ...` must be the only argument of its call, found {found} "
-                     "after it", span,
-                     hint="put the generator in brackets to pass more arguments: "
-                          "`f([x[i] for i in 1:n], y)`")
-
-
 _VALUE_TOKENS = {"NAME", "NUMBER", "STRING", "LONG_STRING", "TRUE", "FALSE"}
 _VALUE_ENDERS = {"NAME", "NUMBER", "RPAR", "RSQB", "TRUE", "FALSE"}
 
@@ -266,6 +244,8 @@ def _previous_significant(tokens: list[Token], index: int) -> Token | None:
 def _expected_phrase(expected: set[str]) -> str:
     parts: list[str] = []
     remaining = set(expected)
+    if "CASE_END" in remaining:             # the `end` of a case is spelled `end`
+        remaining = (remaining - {"CASE_END"}) | {"END"}
     if len(remaining & _EXPRESSION_STARTS) >= 3:
         parts.append("an expression")
         remaining -= _EXPRESSION_STARTS

@@ -247,3 +247,62 @@ def test_a_generator_must_be_the_only_argument():
     assert err.message == "expected a name, found number `2`"
     err = error("component T\n  variable y::Real\nrelations\n  y = sum(for i in 1:3)\nend\n")
     assert (err.span.line, err.span.column) == (4, 11) and "`for`" in err.message
+
+
+# ------------------------------------------------------- Dyad's `switch`: each case closes with `end`
+
+OPEN_SWITCH = """  switch g
+    case Low
+      x = 1
+    case Mid, High
+      for i in 1:2
+        x = i
+      end
+    else
+      x = 3
+  end"""
+CLOSED_SWITCH = """  switch g
+    case Low
+      x = 1
+    end
+    case Mid, High
+      for i in 1:2
+        x = i
+      end
+    end
+    else
+      x = 3
+    end
+  end"""
+
+
+def test_cases_closed_by_end_mean_the_same_switch():
+    (open_form,) = component("  variable x::Real", OPEN_SWITCH).relations
+    (closed_form,) = component("  variable x::Real", CLOSED_SWITCH).relations
+    assert closed_form.closed_cases and not open_form.closed_cases
+    assert closed_form.cases == open_form.cases and closed_form.otherwise == open_form.otherwise
+    assert [c.names for c in closed_form.cases] == [("Low",), ("Mid", "High")]
+
+
+def test_closed_cases_print_back_with_their_ends_and_comments():
+    text = f"component T\n  variable x::Real\nrelations\n{CLOSED_SWITCH}\n  # after\nend\n"
+    # a comment before `case` (like one before `else`) is printed at the depth of a body
+    commented = text.replace("    case Mid", "      # the middle gears\n    case Mid")
+    printed = format_source(commented, "t.dyad")
+    assert printed == commented
+
+
+def test_a_single_closed_case_and_a_nested_switch_in_each_form():
+    (one,) = component("  variable x::Real", "switch g\n  case A\n    x = 1\n  end\nend").relations
+    assert one.closed_cases and one.cases[0].body[0].rhs == N(1)
+    nested = ("switch g\ncase A\n  switch h\n  case X\n    x = 1\n  end\ncase B\n  x = 2\nend")
+    (outer,) = component("  variable x::Real", nested).relations
+    assert [c.names for c in outer.cases] == [("A",), ("B",)] and not outer.closed_cases
+    assert isinstance(outer.cases[0].body[0], ast.Switch)
+
+
+def test_a_switch_left_open_after_closed_cases_is_a_located_error():
+    err = error("component T\n  variable x::Real\nrelations\n  switch g\n    case A\n      x = 1\n"
+                "    end\nend\n")
+    assert err.message.startswith("expected `end` to close component `T`")
+    assert (err.span.line, err.span.column) == (8, 4)      # end of file, after the last `end`
