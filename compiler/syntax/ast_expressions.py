@@ -172,10 +172,14 @@ class Iterator:
 
 @dataclass(frozen=True)
 class Comprehension:
-    """`[expr for i in 1:n]` (several iterators allowed)."""
+    """`[expr for i in 1:n]` (several iterators allowed).
+
+    `generator` marks Julia's bracketless form, the sole argument of a call: `sum(x[i] for i in 1:n)`
+    means `sum([x[i] for i in 1:n])`; the flag only lets `dyadc fmt` print it as written."""
     expr: "Expr"
     iterators: tuple[Iterator, ...]
     span: Span | None = NO_SPAN
+    generator: bool = False
 
 
 Expr = Union[Number, String, Boolean, End, Colon, Ref, Range, UnaryOp, BinaryOp, IfExpr, Call,

@@ -81,12 +81,16 @@ class SwitchCase:
 
 @dataclass(frozen=True)
 class Switch:
-    """`switch subject case A ... case B ... else ... end` on a structural (enum) parameter."""
+    """`switch subject case A ... case B ... else ... end` on a structural (enum) parameter.
+
+    `closed_cases`: the cases (and `else`) were written Dyad's way, each closed by its own `end`;
+    the meaning is the same, the flag lets `dyadc fmt` print the form it read."""
     subject: "Expr"
     cases: tuple[SwitchCase, ...]
     otherwise: tuple["Relation", ...] = ()
     span: Span | None = NO_SPAN
     doc: str | None = None
+    closed_cases: bool = False
 
 
 Relation = Union[Equation, Guess, Connect, Continuity, ForLoop, IfRelation, Switch]

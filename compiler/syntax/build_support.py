@@ -117,6 +117,7 @@ class Metadata:
 @dataclass(frozen=True)
 class Else:
     body: tuple
+    closed: bool = False        # a switch's `else` closed by its own `end` (Dyad's form)
 
 
 @dataclass(frozen=True)

@@ -7,6 +7,7 @@ from lark import Token
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 
 from compiler.errors import DyadError, Note, Span
+from compiler.syntax.generator_forms import generator_with_more_arguments
 from compiler.syntax.modelica_forms import modelica_form_error
 
 _PUNCTUATION = {
@@ -109,6 +110,8 @@ def open_blocks(tokens: list[Token], upto: int) -> list[OpenBlock]:
                 stack.append(OpenBlock(kind.lower(), name, tok))
             elif kind == "FOR":
                 stack.append(OpenBlock("`for` loop", None, tok))
+            elif kind == "SWITCH":
+                stack.append(OpenBlock("`switch`", None, tok))
             elif kind == "IF" and _starts_if_block(prev, tok):
                 stack.append(OpenBlock("`if` block", None, tok))
             elif kind == "END" and stack:
@@ -135,7 +138,8 @@ def parse_error(err: UnexpectedInput, tokens: list[Token], filename: str) -> Dya
     special = _special_case(tok, expected, blocks, tokens, index, found, span)
     if special is not None:
         return special
-    if "END" in expected and blocks and (tok.type == "$END" or tok.type in _DEFINITION_STARTS):
+    if ("END" in expected or "CASE_END" in expected) and blocks \
+            and (tok.type == "$END" or tok.type in _DEFINITION_STARTS):
         block = blocks[-1]
         return DyadError(
             f"expected `end` to close {block.title()} (opened at {block.token.line}:"
@@ -151,6 +155,9 @@ def _special_case(tok: Token, expected: set[str], blocks: list[OpenBlock], token
     legacy = _legacy_form(tok, tokens, index, innermost, span)
     if legacy is not None:
         return legacy
+    generator = generator_with_more_arguments(tok, tokens, index, expected, found, span)
+    if generator is not None:
+        return generator
     adjacent = tokens[index - 1] if 0 < index <= len(tokens) else None
     if prev is not None and prev.type == "DOCSTRING" and tok.type in ("END", "$END"):
         return DyadError("a docstring must be followed by the definition, declaration or relation "
@@ -237,6 +244,8 @@ def _previous_significant(tokens: list[Token], index: int) -> Token | None:
 def _expected_phrase(expected: set[str]) -> str:
     parts: list[str] = []
     remaining = set(expected)
+    if "CASE_END" in remaining:             # the `end` of a case is spelled `end`
+        remaining = (remaining - {"CASE_END"}) | {"END"}
     if len(remaining & _EXPRESSION_STARTS) >= 3:
         parts.append("an expression")
         remaining -= _EXPRESSION_STARTS

@@ -84,7 +84,8 @@ def format_expr(e) -> str:
     if isinstance(e, ast.ArrayLit):
         return _array(e)
     if isinstance(e, ast.Comprehension):
-        return f"[{format_expr(e.expr)} for {_iterators(e.iterators)}]"
+        inner = f"{format_expr(e.expr)} for {_iterators(e.iterators)}"
+        return inner if e.generator else f"[{inner}]"
     raise TypeError(f"not an expression node: {e!r}")
 
 
@@ -257,12 +258,13 @@ def _relation(r, indent: str) -> list[str]:
                                                 r.span)]
     if isinstance(r, ast.Switch):
         lines = _doc_lines(r.doc, indent) + [_at(f"{indent}switch {format_expr(r.subject)}", r.span)]
+        case_end = [f"{indent}{INDENT}end"] if r.closed_cases else []
         for case in r.cases:
             lines.append(f"{indent}{INDENT}case {', '.join(case.names)}")
-            lines += _relations(case.body, indent + INDENT * 2)
+            lines += _relations(case.body, indent + INDENT * 2) + case_end
         if r.otherwise:
             lines.append(f"{indent}{INDENT}else")
-            lines += _relations(r.otherwise, indent + INDENT * 2)
+            lines += _relations(r.otherwise, indent + INDENT * 2) + case_end
         return lines + [f"{indent}end"]
     if isinstance(r, ast.ForLoop):
         lines = _doc_lines(r.doc, indent) + [_at(f"{indent}for {_iterators(r.iterators)}", r.span)]

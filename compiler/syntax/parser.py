@@ -19,6 +19,7 @@ from compiler.syntax.checks import check_file
 from compiler.syntax.diagnostics import lexer_error, parse_error
 from compiler.syntax.lalr import load_parser
 from compiler.syntax.layout import LayoutError, arrange
+from compiler.syntax.switch_layout import mark_case_ends
 from compiler.syntax.transformer import build_ast, number_value, token_span  # noqa: F401
 
 
@@ -72,7 +73,7 @@ def _parse_tokens(parser: Lark, text: str, filename: str, docstrings: bool = Tru
 def _parse_tokens_unguarded(parser: Lark, text: str, filename: str, docstrings: bool):
     raw = tokenize(text, filename)
     try:
-        arranged = arrange(raw, docstrings)
+        arranged = mark_case_ends(arrange(raw, docstrings))
     except LayoutError as err:
         raise DyadError(err.message, token_span(err.token, filename)) from None
     try:

@@ -65,6 +65,11 @@ class ExpressionRules(RuleBase):
         name, *indices = children
         return ast.RefPart(name.value, indices[0] if indices else ())
 
+    def generator_args(self, meta, children):
+        """`sum(x[i] for i in 1:n)`: Julia's generator argument, the comprehension `[x[i] for ...]`."""
+        generator = ast.Comprehension(children[0], children[1], span=self._span(meta), generator=True)
+        return CallArgs((generator,), ())
+
     def call_args(self, meta, children):
         args, kwargs = [], []
         for child in children:

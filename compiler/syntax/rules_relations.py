@@ -1,9 +1,20 @@
 """Parse-tree rules for the `relations` section."""
 from __future__ import annotations
 
+from dataclasses import dataclass
+
+from lark import Token
+
 from compiler.syntax import ast
 from compiler.syntax.build_support import Else, RuleBase, split_doc, split_suffixes
 from compiler.syntax.modelica_forms import modelica_form_error
+
+
+@dataclass(frozen=True)
+class _CaseClause:
+    """A parsed `case`: the AST case, and whether its own `end` closed it (Dyad's form)."""
+    case: ast.SwitchCase
+    closed: bool
 
 
 class RelationRules(RuleBase):
@@ -84,23 +95,26 @@ class RelationRules(RuleBase):
         return ast.IfBranch(children[0], children[1], span=self._span(meta))
 
     def else_clause(self, meta, children):
-        return Else(children[0])
+        return Else(children[0], closed=len(children) > 1)
 
     def switch_block(self, meta, children):
         doc, (_, subject, *clauses) = split_doc(children)
-        cases = tuple(c for c in clauses if isinstance(c, ast.SwitchCase))
+        cases = tuple(c.case for c in clauses if isinstance(c, _CaseClause))
         otherwise = next((c.body for c in clauses if isinstance(c, Else)), ())
+        closed = any(c.closed for c in clauses)
         seen: dict[str, ast.SwitchCase] = {}
         for case in cases:
             for name in case.names:
                 if name in seen:
                     raise self._error(f"case `{name}` appears twice in this `switch`", case.span)
                 seen[name] = case
-        return ast.Switch(subject, cases, otherwise, span=self._span(meta), doc=doc)
+        return ast.Switch(subject, cases, otherwise, span=self._span(meta), doc=doc,
+                          closed_cases=closed)
 
     def case_clause(self, meta, children):
-        _, *names, body = children
-        return ast.SwitchCase(tuple(names), body, span=self._span(meta))
+        closed = isinstance(children[-1], Token) and children[-1].type == "CASE_END"
+        _, *names, body = children[:-1] if closed else children
+        return _CaseClause(ast.SwitchCase(tuple(names), body, span=self._span(meta)), closed)
 
     def relation_list(self, meta, children):
         return tuple(children)

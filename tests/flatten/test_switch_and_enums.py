@@ -3,7 +3,12 @@ member's 1-based position; `switch` keeps the relations of the case its subject 
 when none), cases written bare (the subject's enum) or qualified; mistakes are located errors."""
 from __future__ import annotations
 
+import math
+
+import pytest
 import sympy
+
+from compiler.api import simulate
 
 ENUM = """
 enum Gear = Low | Middle | High
@@ -85,3 +90,40 @@ def test_members_with_fields_are_not_supported_yet(sources):
     err = sources.error(ENUM.replace("= Gear.High", "= Gear.High(ratio = 2)"), "Box",
                         marker="Gear.High(ratio")
     assert "enum members with fields" in err.message
+
+
+CLOSED_CASES = """
+enum Law = Decay | Growth | Hold
+
+component Rate
+  structural parameter law::Law = Law.Decay
+  parameter k::Real = 2
+  variable x::Real
+relations
+  initial x = 1
+  switch law
+    case Decay
+      der(x) = -k * x
+    end
+    case Growth
+      der(x) = k
+    end
+    else
+      der(x) = 0
+    end
+  end
+end
+"""
+
+
+@pytest.mark.parametrize("law, expected", [("Law.Decay", math.exp(-1.0)), ("Law.Growth", 2.0),
+                                           ("Law.Hold", 1.0)])
+def test_cases_closed_by_end_select_the_law_that_simulates(sources, law, expected):
+    """Dyad's form, each case closed by `end`: x(0.5) of x' = -2x, x' = 2, x' = 0 from x(0) = 1."""
+    path = sources.write("Rate.dyad", CLOSED_CASES + f"""
+component Top
+  rate = Rate(law = {law})
+end
+""")
+    result = simulate(f"{path}:Top", stop=0.5, rtol=1e-9, atol=1e-11)
+    assert result["rate.x"][-1] == pytest.approx(expected, rel=1e-6)

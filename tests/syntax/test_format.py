@@ -82,6 +82,9 @@ def _extend(children):
                   st.one_of(children, st.just(ast.End()), st.just(ast.Colon()))),
         st.builds(lambda e, stop: ast.Comprehension(e, (ast.Iterator("i", ast.Range(
             ast.Number(1), stop)),)), children, children),
+        st.builds(lambda f, e, stop: ast.Call(f, (ast.Comprehension(e, (ast.Iterator("i", ast.Range(
+            ast.Number(1), stop)),), generator=True),)), st.sampled_from(["sum", "prod"]),
+            children, children),
         st.lists(st.lists(children, min_size=2, max_size=3).map(
             lambda xs: ast.ArrayLit(tuple(xs))), min_size=2, max_size=2).map(
             lambda rows: ast.ArrayLit(tuple(rows), is_matrix=True)),

@@ -7,6 +7,7 @@ import pytest
 from compiler.errors import DyadError
 from compiler.syntax import ast
 from compiler.syntax.format import format_file
+from compiler.syntax.format_comments import format_source
 from compiler.syntax.parser import parse_expression, parse_source
 
 N = ast.Number
@@ -210,3 +211,98 @@ def test_remainder_and_integer_division_bind_like_division(op):
 def test_capital_d_is_der_for_the_checks():
     err = error("component T\n  parameter k::Real = 1\nrelations\n  D(k) = 1\nend\n")
     assert "`D(k)` differentiates a parameter" in err.message
+
+
+# ------------------------------------------------------------------ generator arguments (issue 27)
+
+def _generator(expr, *iterators):
+    return ast.Comprehension(expr, tuple(ast.Iterator(v, it) for v, it in iterators), generator=True)
+
+
+def test_a_generator_argument_is_the_comprehension_of_its_call():
+    i_squared = ast.BinaryOp("^", ast.Ref((ast.RefPart("w", (ref("i"),)),)), N(2))
+    assert parse_expression("sum(w[i]^2 for i in 1:n)") == ast.Call(
+        "sum", (_generator(i_squared, ("i", ast.Range(N(1), ref("n")))),))
+    both = parse_expression("prod(k for i = 1:2, j ∈ 1:3)")
+    assert both == ast.Call("prod", (_generator(ref("k"), ("i", ast.Range(N(1), N(2))),
+                                                ("j", ast.Range(N(1), N(3)))),))
+
+
+def test_a_generator_argument_prints_back_without_brackets():
+    c = component("  parameter w::Real[3] = [1, 2, 3]\n  variable y::Real",
+                  "y = sum(w[i] * i  for i in 1:3)  # weighted")
+    text = format_source("component T\n  variable y::Real\nrelations\n"
+                         "  # the total\n  y = sum(w[i]   for i in 1:3)\nend\n", "t.dyad")
+    assert "  # the total\n  y = sum(w[i] for i in 1:3)\n" in text
+    assert c.relations[0].rhs.args[0].generator
+    assert parse_expression("sum([w[i] for i in 1:3])").args[0].generator is False
+
+
+def test_a_generator_must_be_the_only_argument():
+    err = error("component T\n  variable y::Real\nrelations\n  y = f(w[i] for i in 1:3, 2)\nend\n")
+    assert (err.span.line, err.span.column) == (4, 28)
+    assert "must be the only argument of its call, found number `2`" in err.message
+    assert "`f([x[i] for i in 1:n], y)`" in err.hint
+    err = error("component T\n  r = [R(k = w[i]) for i in 1:3, 2]\nend\n")
+    assert err.message == "expected a name, found number `2`"
+    err = error("component T\n  variable y::Real\nrelations\n  y = sum(for i in 1:3)\nend\n")
+    assert (err.span.line, err.span.column) == (4, 11) and "`for`" in err.message
+
+
+# ------------------------------------------------------- Dyad's `switch`: each case closes with `end`
+
+OPEN_SWITCH = """  switch g
+    case Low
+      x = 1
+    case Mid, High
+      for i in 1:2
+        x = i
+      end
+    else
+      x = 3
+  end"""
+CLOSED_SWITCH = """  switch g
+    case Low
+      x = 1
+    end
+    case Mid, High
+      for i in 1:2
+        x = i
+      end
+    end
+    else
+      x = 3
+    end
+  end"""
+
+
+def test_cases_closed_by_end_mean_the_same_switch():
+    (open_form,) = component("  variable x::Real", OPEN_SWITCH).relations
+    (closed_form,) = component("  variable x::Real", CLOSED_SWITCH).relations
+    assert closed_form.closed_cases and not open_form.closed_cases
+    assert closed_form.cases == open_form.cases and closed_form.otherwise == open_form.otherwise
+    assert [c.names for c in closed_form.cases] == [("Low",), ("Mid", "High")]
+
+
+def test_closed_cases_print_back_with_their_ends_and_comments():
+    text = f"component T\n  variable x::Real\nrelations\n{CLOSED_SWITCH}\n  # after\nend\n"
+    # a comment before `case` (like one before `else`) is printed at the depth of a body
+    commented = text.replace("    case Mid", "      # the middle gears\n    case Mid")
+    printed = format_source(commented, "t.dyad")
+    assert printed == commented
+
+
+def test_a_single_closed_case_and_a_nested_switch_in_each_form():
+    (one,) = component("  variable x::Real", "switch g\n  case A\n    x = 1\n  end\nend").relations
+    assert one.closed_cases and one.cases[0].body[0].rhs == N(1)
+    nested = ("switch g\ncase A\n  switch h\n  case X\n    x = 1\n  end\ncase B\n  x = 2\nend")
+    (outer,) = component("  variable x::Real", nested).relations
+    assert [c.names for c in outer.cases] == [("A",), ("B",)] and not outer.closed_cases
+    assert isinstance(outer.cases[0].body[0], ast.Switch)
+
+
+def test_a_switch_left_open_after_closed_cases_is_a_located_error():
+    err = error("component T\n  variable x::Real\nrelations\n  switch g\n    case A\n      x = 1\n"
+                "    end\nend\n")
+    assert err.message.startswith("expected `end` to close component `T`")
+    assert (err.span.line, err.span.column) == (8, 4)      # end of file, after the last `end`
