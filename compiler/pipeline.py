@@ -117,7 +117,6 @@ def compile_or_load(spec: str, lib_dirs: Sequence[str] = (), *,
         return found
     from compiler.cache import library_trees, parsed
     from compiler.cache.recording import RecordingLibrary
-    started = time.time_ns()
     parses = parsed.open_cache()           # the trees of files parsed before, unchanged since
     library = RecordingLibrary(lib_dirs, parser=library_trees.parse_file if parses is None else parses.parse)
     compilation = compile_spec(spec, lib_dirs, library=library)
@@ -127,8 +126,8 @@ def compile_or_load(spec: str, lib_dirs: Sequence[str] = (), *,
         return compilation          # over the variant limit: not stored (docs/cache.md)
     began = time.perf_counter()
     try:
-        compilation.cache_key = models.store(spec, lib_dirs, library.inputs(), compilation,
-                                             start_notes(compilation), started)
+        compilation.cache_key = models.store(spec, lib_dirs, library.recorded_inputs(), compilation,
+                                             start_notes(compilation))
     except (OSError, CacheError) as err:
         warnings.warn(f"compilation cache not written: {err}", CacheWarning, stacklevel=2)
     compilation.timings["cache write"] = time.perf_counter() - began

@@ -106,7 +106,3 @@ def _julia_fingerprint(package_folder: Path) -> str:
         return ABSENT
     files = sorted(source.glob("*.jl"))
     return hash_text(*(f"{p.name}:{hashlib.sha256(p.read_bytes()).hexdigest()}" for p in files))
-
-
-def fingerprints(inputs: Iterable[Input]) -> list[tuple[str, str, str]]:
-    return [(kind, path, fingerprint(kind, path)) for kind, path in sorted(set(inputs))]

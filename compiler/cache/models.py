@@ -31,9 +31,6 @@ ENTRY_SUFFIX = ".model"
 MAX_FOLDER_BYTES = 512 * 1024 * 1024
 STALE_TEMPORARY_SECONDS = 3600        # a writer's temporary file older than this was left by a killed run
 logger = logging.getLogger(__name__)
-# A source modified this close to (or after) the start of the compile that read it may not be
-# the version that was read: such a compile is not stored (mtime granularity is a few ms).
-MTIME_MARGIN_NS = 20_000_000
 
 
 @dataclass
@@ -122,18 +119,18 @@ def read_entry(key: str, folder: Path | None = None) -> tuple[CompiledModel, lis
         return None
 
 
-def store(spec: str, lib_dirs: Sequence[str], inputs: list[keys.Input], compilation,
-          notes: list[str], started_ns: int) -> str | None:
-    """Write `compilation` and its `notes` (from a compile that began at `started_ns`,
-    time.time_ns) under the hash of its inputs; its entry key, or None when the cache is off or a
-    source changed while it was being read."""
+def store(spec: str, lib_dirs: Sequence[str], recorded: list[tuple[str, str, str]], compilation,
+          notes: list[str]) -> str | None:
+    """Write `compilation` and its `notes` under the hash of the (kind, path, fingerprint) inputs
+    `recorded` as the compile read them (recording.RecordingLibrary.recorded_inputs); its entry
+    key, or None when the cache is off or a source is no longer the version the compile read (it
+    was edited while the compile ran: the compile may have read either version)."""
     folder = models_folder()
     if folder is None:
         return None
-    if any(_modified_since(path, started_ns - MTIME_MARGIN_NS) for kind, path in inputs if kind != "folder"):
+    if any(kind != "folder" and keys.fingerprint(kind, path) != value for kind, path, value in recorded):
         return None
     lookup = request_key(spec, lib_dirs)
-    recorded = keys.fingerprints(inputs)
     key = keys.entry_key(lookup, recorded)
     private_folder(folder)
     entry = {"format": ENTRY_FORMAT, "model": compilation.model.to_dict(),
@@ -206,13 +203,6 @@ def _declarations(flat) -> dict[str, dict]:
 def _unit_findings(flat) -> list[dict] | None:
     findings = getattr(flat, "unit_findings", None)
     return None if findings is None else [finding.to_dict() for finding in findings]
-
-
-def _modified_since(path: str, threshold_ns: int) -> bool:
-    try:
-        return Path(path).stat().st_mtime_ns >= threshold_ns
-    except OSError:
-        return False
 
 
 def _dumps(data: dict) -> bytes:

@@ -5,13 +5,19 @@ lookups observed: every file parsed or scanned for a definition header, every qu
 searched (each searched folder of each root, found or not: a file added there later could define
 the name), every package whose `dyad_functions.py` was looked for, every package folder whose
 Julia sources were read.
+
+Each source is fingerprinted when the compile first reads it, not when the compile is stored: the
+key then names the version that was read, and a source whose fingerprint changed by the time of the
+store (edited while the compile ran) tells the store not to keep the compile (models.store). No
+clock is involved, so whether a compile is kept never depends on how soon after a file's last
+write it began (a warm process starts compiling within a millisecond of a test writing its model).
 """
 from __future__ import annotations
 
 import os
 from pathlib import Path
 
-from compiler.cache.keys import Input
+from compiler.cache.keys import Input, fingerprint
 from compiler.model.library import FUNCTION_PLUGIN_FILE, Library
 
 
@@ -22,15 +28,25 @@ class RecordingLibrary(Library):
         self.searched_names: set[str] = set()
         self.plugin_packages: set[str] = set()
         self.julia_folders: set[Path] = set()
+        self.read_fingerprints: dict[Input, str] = {}     # as first read, before the read
+
+    def _note_read(self, kind: str, path: str | os.PathLike) -> None:
+        source = (kind, str(Path(path).resolve()))
+        if source not in self.read_fingerprints:
+            self.read_fingerprints[source] = fingerprint(*source)
 
     # Paths are noted as given and resolved once in inputs(): the library reads the same texts
     # hundreds of times.
     def parse(self, path: str | os.PathLike):
-        self.read_files.add(path)
+        if path not in self.read_files:
+            self.read_files.add(path)
+            self._note_read("file", path)
         return super().parse(path)
 
     def _text(self, path: Path) -> str:
-        self.read_files.add(path)
+        if path not in self.read_files:
+            self.read_files.add(path)
+            self._note_read("file", path)
         return super()._text(path)
 
     def find(self, qualified_name: str):
@@ -39,10 +55,15 @@ class RecordingLibrary(Library):
 
     def _julia_functions(self, folder: Path, package: str) -> dict:
         self.julia_folders.add(Path(folder).resolve())
+        self._note_read("julia", folder)
         return super()._julia_functions(folder, package)
 
     def _plugins_for(self, qualified_name: str, runs_code: bool) -> list[Path]:
-        self.plugin_packages.add(qualified_name)
+        if qualified_name not in self.plugin_packages:
+            self.plugin_packages.add(qualified_name)
+            package_parts = qualified_name.split(".")[:-1]
+            for root in self.roots:
+                self._note_read("plugin", root.joinpath(*package_parts) / FUNCTION_PLUGIN_FILE)
         return super()._plugins_for(qualified_name, runs_code)
 
     def inputs(self) -> list[Input]:
@@ -59,3 +80,9 @@ class RecordingLibrary(Library):
                          for root in self.roots)
         found.update(("julia", str(folder)) for folder in self.julia_folders)
         return sorted(found)
+
+    def recorded_inputs(self) -> list[tuple[str, str, str]]:
+        """inputs() with their fingerprints: a source's as it was when the compile first read it
+        (a folder's, or a plugin looked for in a root added later, as it is now)."""
+        return [(kind, path, self.read_fingerprints.get((kind, path)) or fingerprint(kind, path))
+                for kind, path in self.inputs()]

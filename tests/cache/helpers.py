@@ -8,7 +8,6 @@ import os
 import subprocess
 import sys
 import textwrap
-import time
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -93,13 +92,9 @@ def dyadc(cache: Path | str, *args: str, log: Path | None = None, **env: str) ->
 
 
 def write(path: Path, text: str) -> Path:
-    """`text` into `path`, dated two seconds ago: a compile that starts within 20 ms of a source's
-    change is not stored (the version read may not be the one hashed), and an in-process compile
-    right after this write would otherwise be such a compile."""
+    """`text` (dedented) into `path`, its folders made."""
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(textwrap.dedent(text).lstrip(), encoding="utf-8")
-    earlier = time.time() - 2
-    os.utime(path, (earlier, earlier))
     return path
 
 

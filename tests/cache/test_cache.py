@@ -274,12 +274,18 @@ def test_the_models_folder_is_pruned_least_recently_used_first(tmp_path):
 
 
 def test_a_source_changed_while_it_was_compiled_is_not_stored(tmp_path, monkeypatch):
-    from compiler.pipeline import compile_or_load
+    from compiler import pipeline
     monkeypatch.setenv("DYADC_CACHE_DIR", str(tmp_path / "cache"))
     library = small_library(tmp_path / "lib")
-    later = time.time() + 5                                     # saved while the compile ran
-    os.utime(library / "CacheLib" / "Decay.dyad", (later, later))
-    assert compile_or_load("CacheLib.Scaled", [str(library)]).cache_key is None
+    decay = library / "CacheLib" / "Decay.dyad"
+    compile_spec = pipeline.compile_spec
+
+    def edited_while_compiling(*args, **kwargs):
+        compilation = compile_spec(*args, **kwargs)
+        decay.write_text(decay.read_text() + "\n")           # saved after the compile read it
+        return compilation
+    monkeypatch.setattr(pipeline, "compile_spec", edited_while_compiling)
+    assert pipeline.compile_or_load("CacheLib.Scaled", [str(library)]).cache_key is None
     assert entries(tmp_path / "cache") == []
-    write(library / "CacheLib" / "Decay.dyad", (library / "CacheLib" / "Decay.dyad").read_text())
-    assert compile_or_load("CacheLib.Scaled", [str(library)]).cache_key is not None
+    monkeypatch.setattr(pipeline, "compile_spec", compile_spec)
+    assert pipeline.compile_or_load("CacheLib.Scaled", [str(library)]).cache_key is not None
