@@ -3,6 +3,8 @@ connections (recorded for the connection sets), and the structural `for`, `if` a
 relations, unrolled or resolved at compile time."""
 from __future__ import annotations
 
+from typing import Any
+
 import sympy
 
 from compiler.errors import DyadError
@@ -69,11 +71,26 @@ def _equation(state: FlattenState, relation: ast.Equation, scope: EvalScope) -> 
     target = state.initial if relation.initial else state.equations
     for left, right in zip(scalars(lhs), scalars(rhs)):
         target.append(Equation(left - right, origin, "equation", relation.doc))
-        if relation.initial and isinstance(left, sympy.Symbol) and \
-                state.model.is_unknown(left.name) and left.name not in state.model.derivatives:
-            value = state.numeric_or_none(right)
-            if value is not None:
-                state.starts.setdefault(left.name, value)
+        if relation.initial:
+            _start_from_initial_equation(state, left - right)
+
+
+def _start_from_initial_equation(state: FlattenState, residual: Any) -> None:
+    """An initial equation that fixes one unknown at a value gives that unknown its start value,
+    however it is written: `x = 1.2`, `1.2 = x`, `x - 1.2 = 0` and `2 * x = 2.4` alike (the
+    residual is linear in its only unknown, with coefficients known from the parameters). Taken
+    only from `x = c` before, the other forms left the start at 0, where a mount's sqrt had no
+    derivative and the initialization failed."""
+    unknowns = [s for s in getattr(residual, "free_symbols", ()) if state.model.is_unknown(s.name)]
+    if len(unknowns) != 1 or unknowns[0].name in state.model.derivatives:
+        return
+    (unknown,) = unknowns
+    slope = sympy.diff(residual, unknown)
+    if unknown in slope.free_symbols:
+        return
+    gain, offset = state.numeric_or_none(slope), state.numeric_or_none(residual.xreplace({unknown: 0}))
+    if gain is not None and offset is not None and gain != 0.0:
+        state.starts.setdefault(unknown.name, -offset / gain + 0.0)      # + 0.0: no -0.0
 
 
 def _guess(state: FlattenState, relation: ast.Guess, scope: EvalScope) -> None:

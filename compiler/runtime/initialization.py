@@ -27,9 +27,21 @@ def _row_scales(jac: np.ndarray) -> np.ndarray:
     return np.where(norms > 1e-300, norms, 1.0)
 
 
+def _finite_jacobian(evaluate: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]):
+    """`evaluate` with the Jacobian's infinite or nan entries read as 0: a derivative that does
+    not exist at the point (sqrt at 0, an auxiliary `a = x^2 + y^2` guessed 0 under `sqrt(a) = L`)
+    gives no direction, and the other rows move the point off the singularity. Unguarded, the
+    entry made the row scale infinite and LAPACK's SVD stopped with an internal LinAlgError."""
+    def finite(w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        r, jac = evaluate(w)
+        return r, np.where(np.isfinite(jac), jac, 0.0)
+    return finite
+
+
 def _levenberg_marquardt(evaluate: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]],
                          w: np.ndarray, tol: float, max_iterations: int):
     """Least-squares solve of r(w) = 0 with the exact Jacobian. Returns (w, r, jac, iterations)."""
+    evaluate = _finite_jacobian(evaluate)
     r, jac = evaluate(w)
     lam = 0.0
     iterations = 0
@@ -101,6 +113,7 @@ def _polished(evaluate: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]], w
     consistent to its own tolerance: Andrews' squeezer stopped with a residual of 1.7e-11 whose
     Newton correction of der(epp) was 45 times its IDAS weight at rtol = atol = 1e-12 (the error
     test failed repeatedly at t = 0); after one step it is 0.02 times."""
+    evaluate = _finite_jacobian(evaluate)
     for _ in range(rounds):
         if not r.size or not np.all(np.isfinite(r)):
             break

@@ -120,9 +120,12 @@ def reduce(flat: FlatSystem, point: dict[str, float] | None = None,
 def select_states(system: IndexedSystem, priorities: dict[str, int], flat: FlatSystem,
                   point: dict[str, float] | None, pivots=None) -> DummySelection:
     priority = declared_priority(system, priorities)
-    jacobian = pivots if pivots is not None else \
-        _numeric_jacobian(system, flat, point) if point is not None else None
-    selection = select_dummy_derivatives(system, priority, jacobian)
+    if pivots is not None or point is None:
+        selection = select_dummy_derivatives(system, priority, pivots)
+    else:
+        selection = select_dummy_derivatives(system, priority, _numeric_jacobian(system, flat, point, True))
+        if selection.deficient:     # singular where unknowns without values are 0: as before
+            selection = select_dummy_derivatives(system, priority, _numeric_jacobian(system, flat, point, False))
     if selection.deficient:
         rows = [e for level in selection.levels for e in level[0]]
         raise DyadError("index reduction failed: the differentiated constraints do not determine "
@@ -133,8 +136,13 @@ def select_states(system: IndexedSystem, priorities: dict[str, int], flat: FlatS
     return selection
 
 
-def _numeric_jacobian(system: IndexedSystem, flat: FlatSystem, point: dict[str, float]):
-    values = {sympy.Symbol(k): v for k, v in point.items()}
+def _numeric_jacobian(system: IndexedSystem, flat: FlatSystem, point: dict[str, float], fill: bool):
+    """The level Jacobians at `point`. With `fill`, an unknown without a value (no guess, no
+    start) is 0, the value the initialization starts it from; without, a level that needs one
+    falls back to the structural choice, which breaks ties between candidates by their names (a
+    renamed variable changed the state set: the metamorphic tests' PendulumA01, issue 25)."""
+    values = {symbol: 0.0 for symbol in system.symbols} if fill else {}
+    values.update({sympy.Symbol(k): v for k, v in point.items()})
     values.update({sympy.Symbol(p.name): p.value for p in flat.parameters if p.value is not None})
     substitute = _shared_xreplace(values)
 

@@ -68,26 +68,18 @@ def test_with_the_crank_as_state_the_closure_and_guide_constraints_hold(crank_st
     np.testing.assert_allclose(res["slider.phi"], 0.0, atol=1e-12)
 
 
-JOINTS = ("crank_joint", "rod_joint", "slider_joint")
-
-
 @pytest.mark.parametrize("rtol", [1e-9, 1e-10])
-def test_equal_priorities_run_through_the_dead_centres_switching_state_sets(equal_priorities, rtol):
+def test_equal_priorities_start_from_the_pivoted_state_set_and_run_through_the_dead_centres(
+        equal_priorities, rtol):
     # The requirement allows a clear stop naming the constraint, but what happens (on every
-    # machine: the choice is made by integer structure and the pivot monitor) is a full run: the
-    # compiler starts from a joint angle that degenerates, the pivot monitor switches the state
-    # set (measured: one switch, at t = 1e-4, slider_joint -> rod_joint) and the run matches the
-    # hand-derived model (before the monitor: a silent 8.1e-5 rad error at rtol 1e-9).
+    # machine) is a full run that matches the hand-derived model. The compiler pivots on the
+    # level Jacobian at the start point, an unknown without a value counted as 0 (2026-11-28,
+    # issue 25): it starts from rod_joint, the set the pivot monitor used to switch to at
+    # t = 1e-4 when the start choice fell back to structure and took slider_joint, which
+    # degenerates there. Nothing needs a switch during the run.
     assert equal_priorities.dynamic
+    assert equal_priorities.model.state_names == ["rod_joint.phi", "rod_joint.w"]
     res = api.simulate_compiled(equal_priorities, 2.0, points=2001, rtol=rtol, atol=rtol)
     assert res.time[-1] == 2.0
     check_against_reference(res, scale=rtol / 1e-10)
-    switches = res.stats["state_switches"]
-    assert switches, "the first state set degenerates: the monitor must switch away from it"
-    for switch in switches:
-        assert 0.0 < switch["time"] < 2.0
-        for side in ("from", "to"):
-            joints = {name.rsplit(".", 1)[0] for name in switch[side]}
-            assert len(joints) == 1 and joints <= set(JOINTS), switch
-            assert sorted(name.rsplit(".", 1)[1] for name in switch[side]) == ["phi", "w"], switch
-        assert switch["from"] != switch["to"]
+    assert res.stats["state_switches"] == []

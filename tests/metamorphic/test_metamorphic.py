@@ -11,7 +11,6 @@ from __future__ import annotations
 import os
 
 import pytest
-from numpy.linalg import LinAlgError
 
 from tests.metamorphic import agreement, rewrites
 from tests.metamorphic.corpus import BASES, BY_LABEL, EXCAVATOR
@@ -28,18 +27,7 @@ SAMPLE = (
 
 # Rewrites that change the verdict today: strict xfails, each a bug found by the generator (an
 # entry passes once its bug is fixed, which fails the suite until the entry is removed).
-KNOWN = {
-    ("PendulumA01Sqrt", 0): ("parameters inlined and a subexpression named: an internal "
-                             "numpy LinAlgError ('SVD did not converge in Linear Least Squares') "
-                             "escapes the compiler (main 6ce666b)", LinAlgError),
-    ("PendulumA01", 6): ("equations scaled by a parameter, one moved to one side, variables renamed: "
-                         "IDA_CONV_FAIL at t = 0 where the base runs (main 6ce666b; before, on d43db36, "
-                         "an internal 'float' object has no attribute 'free_symbols')", AssertionError),
-    ("PendulumA01", 1): ("vx inlined (m * der(der(x)) = -lambda * x) and an equation moved to one side: "
-                         "IDA_CONV_FAIL at t = 0.592 where the base runs (main d43db36 too)", AssertionError),
-    ("CylinderHoldingLoad", 5): ("`initial load.r[2] = 1.2` written `1.2 = load.r[2]` or `load.r[2] - 1.2 = 0`: "
-                                 "initialization starts from 0 and the mount's sqrt gives nan", AssertionError),
-}
+KNOWN: dict = {}
 
 
 def _case(label: str, seed: int):

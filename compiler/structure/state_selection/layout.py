@@ -42,7 +42,8 @@ def choice_priority(analysis: Analysis) -> Callable[[int], int]:
     system = analysis.system
     diff_to_var = system.diff_to_var()
     diff_to_eq = system.diff_to_eq()
-    differentiated = {diff_to_var[d] for e in range(system.n_eqs) if diff_to_eq[e] < 0
+    # the base variable: `der(der(x))` written in the model differentiates x (not only der(x))
+    differentiated = {base_variable(system, d, diff_to_var) for e in range(system.n_eqs) if diff_to_eq[e] < 0
                       for d in system.incidence[e] if diff_to_var[d] >= 0}
     declared = declared_priority(system, analysis.priorities)
 
