@@ -242,9 +242,10 @@ def markdown(results: list[dict], libraries: list, command: str, seconds: float,
         "dyadc's value agrees with it (within the case's tolerance, or 1e-8 relative).",
         "- **library path**: `LIB` holds one link per corpus repository, named after its package "
         "(`Project.toml`), to its `dyad/` folder, so that `BlockComponents.Sine` resolves across "
-        "repositories. dyadc searches its shipped library first, so a qualified name that the "
-        "shipped library also defines (e.g. `BlockComponents.Constant`) resolves to dyadc's own "
-        "definition; a bare name resolves in the file's own folder, i.e. to the corpus's.",
+        "repositories. A package comes from one folder (docs/language.md, Packages): each linked "
+        "corpus package replaces dyadc's shipped package of the same name as a whole (so "
+        "`BlockComponents.Constant` is the corpus's), packages only dyadc ships resolve to its own, "
+        "and the base library `Dyad` is always dyadc's.",
         "- Failures are grouped by their first error line with file names, locations, numbers "
         "and quoted names removed; the names quoted most often are listed with each class.",
         "",
