@@ -4,10 +4,9 @@ declared type, a note where the component is instantiated)."""
 from __future__ import annotations
 
 import re
-import textwrap
 from pathlib import Path
 
-from compiler.cli import main
+from tests.flatten.test_newcomer_errors import line_of, run, write
 
 TYPES = """
 type Resistance = Real(units = "Ohm")
@@ -55,23 +54,6 @@ relations
   initial w = 1
 end
 """
-
-
-def write(folder: Path, name: str, text: str) -> Path:
-    path = folder / name
-    path.write_text(textwrap.dedent(text).lstrip("\n"), encoding="utf-8")
-    return path
-
-
-def line_of(path: Path, marker: str) -> int:
-    return next(i + 1 for i, line in enumerate(path.read_text().splitlines()) if marker in line)
-
-
-def run(capsys, *argv: str) -> tuple[int, str, str]:
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    assert "Traceback" not in err and "internal error" not in err, err
-    return code, out, err
 
 
 def located_lines(err: str, path: Path) -> list[tuple[str, int]]:
