@@ -58,7 +58,15 @@ def snapshot(folder: Path, ref: str | None = None) -> Path:
     if (folder / "compiler" / "cache" / "library_trees.py").is_file():       # as setup.py does
         subprocess.run([sys.executable, "-m", "compiler.cache.library_trees", "compiler/components",
                         str(TREES)], cwd=folder, check=True, capture_output=True)
+    if (folder / "compiler" / "runtime" / "native_build.py").is_file():      # as setup.py does
+        subprocess.run([sys.executable, "-c", BUILD_CSV_LIBRARY], cwd=folder, check=True, capture_output=True)
     return folder
+
+
+# the C CSV formatter (compiler/runtime/native_build.py), unless the copied work tree holds it
+# already or no C compiler is found
+BUILD_CSV_LIBRARY = ("from compiler.runtime import native_build as n; "
+                     "n.csv_library_path().is_file() or n.find_compiler() is None or n.build_csv_library()")
 
 
 TREES = Path("compiler/cache/shipped_trees")      # the trees of the shipped library, in a snapshot

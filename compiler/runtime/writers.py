@@ -5,7 +5,7 @@ replaces the target, so a reader (or a crash) never sees half a file. Only numpy
 library are imported here; pyarrow and scipy are imported when their format is asked for.
 
 Layouts (a column is a signal; `time` comes first):
-- .csv      header `time,a,b`, one row per time, every number with 17 significant digits; the
+- .csv      header `time,a,b`, one row per time, every number at `%.17g` (csv_text.py); the
             run's parameters and the units go to a sidecar `FILE.csv.json` (`sidecar_path`,
             `write_sidecar`), so that the CSV stays a plain table;
 - .parquet  one float64 column per signal; a column's unit is in its field metadata (`unit`), the
@@ -27,6 +27,8 @@ import zipfile
 from typing import Callable, Mapping
 
 import numpy as np
+
+from .csv_text import csv_rows
 
 SUPPORTED_EXTENSIONS = (".csv", ".parquet", ".mat", ".npz")
 _NPZ_UNITS = "__units__"
@@ -104,39 +106,10 @@ def _write_text(temp: str, text: str) -> None:
 
 def _write_csv(temp: str, time: np.ndarray, data: dict, units: dict, parameters: dict) -> None:
     header = ",".join(_csv_field(name) for name in ["time", *data])
-    columns = _formatted_columns([time, *data.values()])
-    with open(temp, "w", encoding="utf-8", newline="\n") as out:
-        out.write(header + "\n")
-        out.write("".join(",".join(row) + "\n" for row in zip(*columns)))
-
-
-def _formatted_columns(columns: list[np.ndarray]) -> list[list[str]]:
-    """Each column as its numbers' text (`%.17g`), formatted once per distinct column: a model's
-    aliases, constants and opposite flows repeat (the excavator's 631 signals are 286 distinct
-    columns, 45 of them the negation of another, 83 constant), and formatting is the writer's
-    whole cost. One `%` over the column is a single call into C. The text is the same as
-    formatting every number on its own."""
-    formatted: dict[bytes, list[str]] = {}
-    out = []
-    for column in columns:
-        column = np.ascontiguousarray(column, dtype=float)
-        key = column.tobytes()
-        text = formatted.get(key)
-        if text is None:
-            text = formatted[key] = _formatted(column, formatted)
-        out.append(text)
-    return out
-
-
-def _formatted(column: np.ndarray, formatted: dict[bytes, list[str]]) -> list[str]:
-    n = len(column)
-    bits = column.view(np.int64)                    # -0.0 prints unlike 0.0: compare bits
-    if n and (bits == bits[0]).all():
-        return ["%.17g" % column[0]] * n
-    negated = formatted.get((-column).tobytes())    # `%.17g` of -x is "-" and that of x (NaN aside)
-    if negated is not None and not np.isnan(column).any():
-        return [t[1:] if t[0] == "-" else "-" + t for t in negated]
-    return (("%.17g\n" * n) % tuple(column.tolist())).split("\n")[:n]
+    body = csv_rows([time, *data.values()])
+    with open(temp, "wb") as out:
+        out.write(header.encode("utf-8") + b"\n")
+        out.write(body)
 
 
 def _csv_field(name: str) -> str:
