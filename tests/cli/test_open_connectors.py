@@ -2,57 +2,22 @@
 (compiled and from the cache) warn, naming each connector that nothing connects."""
 from __future__ import annotations
 
-import textwrap
+from tests.dyad_cli import GROUND, PIN, resistor, resistor_circuit, run, voltage_source, write
 
-from compiler.cli import main
-
-OPEN_CIRCUIT = """
-connector Pin
-  potential v::Real
-  flow i::Real
-end
-component Resistor
-  p = Pin()
-  n = Pin()
-  parameter R::Real = 2
-relations
-  p.v - n.v = R * p.i
-  p.i + n.i = 0
-end
-component Source
-  p = Pin()
-  n = Pin()
-relations
-  p.v - n.v = 12
-  p.i + n.i = 0
-end
-component Ground
-  g = Pin()
-relations
-  g.v = 0
-end
-component Circuit
-  source = Source()
-  resistor = Resistor()
-  ground = Ground()
-relations
-  connect(source.p, resistor.p)
-  connect(source.n, ground.g)
-end
-"""
+# resistor.n is left open: nothing connects it
+OPEN_CIRCUIT = (PIN + resistor("parameter R::Real = 2") + voltage_source(12) + GROUND
+                + resistor_circuit("connect(source.p, resistor.p)", "connect(source.n, ground.g)"))
 
 EXPECTED = ("warning: 1 connector is connected to nothing, so its flows are zero (a free end, or "
             "a missing connect: an open circuit carries no current): resistor.n (i)\n")
 
 
 def test_check_and_simulate_name_the_connectors_nothing_connects(tmp_path, capsys):
-    path = tmp_path / "Circuit.dyad"
-    path.write_text(textwrap.dedent(OPEN_CIRCUIT), encoding="utf-8")
-    spec = f"{path}:Circuit"
-    assert main(["check", spec]) == 0
-    out, _ = capsys.readouterr()
+    spec = f"{write(tmp_path, 'Circuit.dyad', OPEN_CIRCUIT)}:Circuit"
+    code, out, _ = run(capsys, "check", spec)
+    assert code == 0
     assert "  " + EXPECTED in out
     for _ in ("compiled", "from the cache"):
-        assert main(["simulate", spec, "--stop", "1"]) == 0
-        _, err = capsys.readouterr()
+        code, _, err = run(capsys, "simulate", spec, "--stop", "1")
+        assert code == 0
         assert err.count("warning: ") == 1 and EXPECTED in err, err

@@ -4,12 +4,11 @@ unknowns printed once per model and only after every option is checked; `check D
 every file that does not parse."""
 from __future__ import annotations
 
-import textwrap
-
 import pytest
 
 from compiler import __version__
 from compiler.cli import main
+from tests.dyad_cli import run, write
 
 SWING = """
 component Swing
@@ -35,19 +34,6 @@ metadata {"Dyad": {"tests": {"one": {"stop": 1, "atol": {"x": 1e-6}, "expect": {
                              "two": {"stop": 2, "atol": {"x": 1e-6}, "expect": {"signals": ["x"]}}}}}
 end
 """
-
-
-def write(folder, name: str, text: str):
-    path = folder / name
-    path.write_text(textwrap.dedent(text).lstrip("\n"), encoding="utf-8")
-    return path
-
-
-def run(capsys, *argv) -> tuple[int, str, str]:
-    code = main([str(a) for a in argv])
-    out, err = capsys.readouterr()
-    assert "Traceback" not in err and "internal error" not in err, err
-    return code, out, err
 
 
 def test_version(capsys):

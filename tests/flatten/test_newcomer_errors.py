@@ -8,23 +8,18 @@ from __future__ import annotations
 
 import math
 import re
-import textwrap
 from pathlib import Path
 
 import pytest
 
 from compiler import api
-from compiler.cli import main
 from compiler.errors import DyadError
 from compiler.model.flatten import flatten_model
 from compiler.model.floating import floating_clusters
 from compiler.model.model_check import assess
+from tests.dyad_cli import GROUND, PIN, line_of, run, write
 
-LIB = """
-connector Pin
-  potential v::Real
-  flow i::Real
-end
+LIB = PIN + """
 partial component TwoPin
   p = Pin()
   n = Pin()
@@ -53,35 +48,13 @@ component Source
 relations
   v = V
 end
-component Ground
-  g = Pin()
-relations
-  g.v = 0
-end
-"""
-
-
-def write(folder: Path, name: str, text: str) -> Path:
-    path = folder / name
-    path.write_text(textwrap.dedent(text).lstrip("\n"), encoding="utf-8")
-    return path
+""" + GROUND
 
 
 @pytest.fixture
 def lib(tmp_path: Path) -> Path:
     write(tmp_path, "Lib.dyad", LIB)
     return tmp_path
-
-
-def line_of(path: Path, marker: str) -> int:
-    return next(i + 1 for i, line in enumerate(path.read_text().splitlines()) if marker in line)
-
-
-def run(capsys, *argv: str) -> tuple[int, str, str]:
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    assert "Traceback" not in err and "internal error" not in err, err
-    return code, out, err
 
 
 def assert_located(err: str, path: Path, line: int) -> None:

@@ -6,44 +6,15 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
-from tests.flatten.test_newcomer_errors import line_of, run, write
+from tests.dyad_cli import GROUND, PIN, line_of, resistor, resistor_circuit, run, voltage_source, write
 
-TYPES = """
-type Resistance = Real(units = "Ohm")
-connector Pin
-  potential v::Real
-  flow i::Real
-end
-component Resistor
-  p = Pin()
-  n = Pin()
-  "Resistance"
-  parameter R::Resistance
-relations
-  p.v - n.v = R * p.i
-  p.i + n.i = 0
-end
-component Ground
-  g = Pin()
-relations
-  g.v = 0
-end
-component Source
-  p = Pin()
-  n = Pin()
-relations
-  p.v - n.v = 1
-  p.i + n.i = 0
-end
-component Circuit
-  source = Source()
-  resistor = Resistor()
-  ground = Ground()
-relations
-  connect(source.p, resistor.p)
-  connect(resistor.n, source.n, ground.g)
-end
-"""
+TYPES = ('type Resistance = Real(units = "Ohm")\n' + PIN
+         + resistor("""
+             "Resistance"
+             parameter R::Resistance
+             """)
+         + GROUND + voltage_source(1)
+         + resistor_circuit("connect(source.p, resistor.p)", "connect(resistor.n, source.n, ground.g)"))
 
 RUNAWAY = """
 component Runaway
