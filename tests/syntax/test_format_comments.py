@@ -27,32 +27,7 @@ def test_every_comment_of_the_library_survives_formatting(path):
     assert format_source(printed, "again") == printed
 
 
-MESSY = '''\
-# Header of the file.
-# Second line.
-
-"A thing"
-component Thing   # the component
-  # the parameters
-  "Gain"
-  parameter k::Real=2    # dimensionless
-  variable x::Real
-  # before relations
-relations
-  # the dynamics
-  der(x) = -k*x   # decay
-  if x > 1   # large
-    # inside the if
-    y = 1
-  else
-    y = 0 # small
-    # last in else
-  end
-  # last in the component
-end
-# after everything
-'''
-
+# The formatted file, with comments in every kind of place ...
 EXPECTED = '''\
 # Header of the file.
 # Second line.
@@ -78,6 +53,24 @@ relations
 end
 # after everything
 '''
+
+# ... and its lines as a person types them: only the spacing differs (what the formatter mends),
+# every comment is where it was.
+AS_TYPED = [("component Thing  # the component", "component Thing   # the component"),
+            ("parameter k::Real = 2  # dimensionless", "parameter k::Real=2    # dimensionless"),
+            ("der(x) = -k * x  # decay", "der(x) = -k*x   # decay"),
+            ("if x > 1  # large", "if x > 1   # large"),
+            ("y = 0  # small", "y = 0 # small")]
+
+
+def as_typed(formatted: str) -> str:
+    for line, typed in AS_TYPED:
+        assert formatted.count(line) == 1, line
+        formatted = formatted.replace(line, typed)
+    return formatted
+
+
+MESSY = as_typed(EXPECTED)
 
 
 def test_comments_in_every_kind_of_place_stay_where_they_were():
