@@ -21,9 +21,11 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from compiler import api  # noqa: E402
 from compiler.runtime import idas  # noqa: E402
+from suite.doc_blocks import write_block  # noqa: E402
 from tests.reference import andrews, pendulum  # noqa: E402
 
 MODELS = str(ROOT / "tests" / "models")
@@ -123,13 +125,7 @@ def main(argv: list[str]) -> int:
     parser.add_argument("--doc", default=str(ROOT / "docs" / "numerics.md"))
     args = parser.parse_args(argv)
     table = render(args.quick)
-    doc = Path(args.doc)
-    text = doc.read_text(encoding="utf-8") if doc.exists() else ""
-    if BEGIN in text and END in text:
-        text = text[:text.index(BEGIN)] + table + text[text.index(END) + len(END):]
-    else:
-        text = text + "\n" + table + "\n"
-    doc.write_text(text, encoding="utf-8")
+    write_block(Path(args.doc), table, BEGIN, END)
     print(table)
     return 0
 

@@ -18,6 +18,9 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "benchmarks"))
+
+from suite.doc_blocks import write_block  # noqa: E402
 
 EXCAVATOR = "MultibodyComponents.PlanarMechanics.examples.excavator.Excavator"
 TARGET_S = 0.050
@@ -50,22 +53,13 @@ def render(found: dict) -> str:
         END])
 
 
-def write_doc(table: str, doc: Path) -> None:
-    text = doc.read_text(encoding="utf-8") if doc.exists() else ""
-    if BEGIN in text and END in text:
-        text = text[:text.index(BEGIN)] + table + text[text.index(END) + len(END):]
-    else:
-        text = text.rstrip("\n") + "\n\n## Speed\n\n" + table + "\n"
-    doc.write_text(text, encoding="utf-8")
-
-
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=15)
     parser.add_argument("--doc", default=str(ROOT / "docs" / "analysis.md"))
     args = parser.parse_args(argv)
     table = render(measure(args.repeats))
-    write_doc(table, Path(args.doc))
+    write_block(Path(args.doc), table, BEGIN, END, heading="Speed")
     print(table)
     return 0
 

@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import argparse
 import os
-import re
 import resource
 import statistics
 import sys
@@ -31,6 +30,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from suite import machine  # noqa: E402
+from suite.doc_blocks import write_block  # noqa: E402
 
 MODEL = "MultibodyComponents.PlanarMechanics.examples.excavator.Excavator"
 PARAMETER = "soil.k_phi"
@@ -157,15 +157,6 @@ def render(data: dict) -> str:
     return "\n".join(lines)
 
 
-def write_into(doc: Path, block: str) -> None:
-    text = doc.read_text(encoding="utf-8") if doc.exists() else ""
-    if BEGIN in text and END in text:
-        text = re.sub(re.escape(BEGIN) + ".*?" + re.escape(END), lambda _: block, text, flags=re.S)
-    else:
-        text = text.rstrip() + "\n\n" + block + "\n"
-    doc.write_text(text, encoding="utf-8")
-
-
 def main(argv: list[str]) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--samples", type=int, default=200)
@@ -179,7 +170,7 @@ def main(argv: list[str]) -> int:
     block = render(data)
     print(block)
     if not args.no_write:
-        write_into(Path(args.doc), block)
+        write_block(Path(args.doc), block, BEGIN, END)
         print(f"wrote the table into {args.doc}")
     return 0
 

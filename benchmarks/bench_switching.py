@@ -25,8 +25,10 @@ import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from compiler import api  # noqa: E402
+from suite.doc_blocks import write_block  # noqa: E402
 from tests.reference import pendulum  # noqa: E402
 
 BEGIN, END = "<!-- switching speed: begin -->", "<!-- switching speed: end -->"
@@ -131,12 +133,7 @@ def render(data: dict, repeats: int) -> str:
 
 def write_doc(table: str, doc: Path) -> None:
     """The table replaces the text between the markers (or ends the doc in a section of its own)."""
-    text = doc.read_text(encoding="utf-8") if doc.exists() else ""
-    if BEGIN in text and END in text:
-        text = text[:text.index(BEGIN)] + table + text[text.index(END) + len(END):]
-    else:
-        text = text.rstrip("\n") + "\n\n## Speed of a switching run\n\n" + table + "\n"
-    doc.write_text(text, encoding="utf-8")
+    write_block(doc, table, BEGIN, END, heading="Speed of a switching run")
 
 
 def main(argv: list[str]) -> int:
