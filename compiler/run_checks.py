@@ -13,7 +13,7 @@ from contextlib import contextmanager
 from typing import Iterator, Mapping
 
 from compiler.errors import DyadError, Note, SimulationError
-from compiler.model.model_check import require_parameter_values, require_tunable_overrides
+from compiler.model.parameter_checks import require_parameter_values, require_tunable_overrides
 from compiler.structure.diagnostics import parameter_singularity_error
 
 

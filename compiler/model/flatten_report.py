@@ -8,7 +8,7 @@ from compiler.model.flat import INPUT, FlatSystem
 
 
 def summarize(flat: FlatSystem, verdict=None) -> str:
-    """`verdict` (compiler.model.model_check.Verdict), when given, replaces the bare count comparison:
+    """`verdict` (compiler.model.verdict.Verdict), when given, replaces the bare count comparison:
     it says whether the model runs on its own or is partial, and why."""
     from compiler.model.balance import balance_summary, unbalanced_components
     kinds = Counter(v.kind for v in flat.variables)

@@ -11,105 +11,23 @@ with an open input, a base declared `partial`. Such a model is *partial*: `dyadc
 ("partial: balanced as a component, 2 open connectors (p, n)") and `simulate` refuses it with the
 open connectors named. Balanced as a component means Modelica's rule: its equations, without the
 zero flows of its own open connectors, equal its unknowns minus those flows and its inputs.
+
+Here: how the verdict is reached; verdict.py: what it says (`check`'s line, `simulate`'s error);
+parameter_checks.py: the values a run needs.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 from compiler.model.balance import check_balance, incidence, span_from_text, unbalanced_components, \
     unknown_names
 from compiler.errors import DyadError, Note
 from compiler.model.flat import INPUT, FlatSystem
 from compiler.model.floating import FloatingCluster, floating_clusters
+from compiler.model.parameter_checks import require_parameter_values, used_parameter_names
+from compiler.model.verdict import Verdict
 from compiler.julia.objects import opaque_calls
 from compiler.structure.graph.dulmage_mendelsohn import dulmage_mendelsohn
-
-
-@dataclass(frozen=True)
-class Verdict:
-    model: str
-    equations: int
-    unknowns: int
-    open_connectors: tuple[str, ...] = ()     # physical connectors of the model itself
-    open_inputs: tuple[str, ...] = ()         # its input signals
-    declared_partial: bool = False
-    component_equations: int = 0              # without the zero flows of its open connectors
-    component_unknowns: int = 0               # without those flows and its inputs
-    reason: DyadError | None = None           # why it cannot run on its own (None: it can)
-    declared_external: bool = False           # `external component`: equations written in Julia
-    julia_object_calls: tuple[str, ...] = ()  # functions of a medium (compiler/julia/objects.py)
-    julia_object_span: object = None          # the first equation that calls one
-
-    @property
-    def is_partial(self) -> bool:
-        return self.reason is not None
-
-    @property
-    def open_count(self) -> int:
-        return len(self.open_connectors) + len(self.open_inputs)
-
-    def open_list(self) -> str:
-        return ", ".join(self.open_connectors + self.open_inputs)
-
-    def describe(self) -> str:
-        """One status line for `dyadc check`."""
-        if not self.is_partial:
-            return f"balanced: {self.equations} equations, {self.unknowns} unknowns" \
-                + self._julia_object_note()
-        opened = (f"{self.open_count} open connector{'s' if self.open_count != 1 else ''}"
-                  + (f" ({self.open_list()})" if self.open_count else ""))
-        if self.declared_external:
-            return (f"external: interface only, {self.unknowns} unknowns and {opened}; its "
-                    f"equations are implemented in Julia, so dyadc cannot simulate it")
-        if self.component_equations == self.component_unknowns:
-            state = "balanced as a component"
-        else:
-            state = (f"{self.component_equations} equations for {self.component_unknowns} unknowns "
-                     f"as a component")
-        declared = "declared partial, " if self.declared_partial else ""
-        return f"partial: {declared}{state}, {opened}; it cannot be simulated on its own" \
-            + self._julia_object_note()
-
-    def _julia_object_note(self) -> str:
-        if not self.julia_object_calls:
-            return ""
-        return (f"; dyadc cannot simulate it: {_calls(self.julia_object_calls)} of a Julia "
-                f"object (a medium, a dataset, an interpolator), kept opaque for these checks")
-
-    def julia_object_error(self) -> DyadError:
-        return DyadError(f"`{self.model}` cannot be simulated by dyadc: it calls "
-                         f"{_calls(self.julia_object_calls)} with a Julia object (a medium, a "
-                         f"dataset, an interpolator) whose value dyadc cannot represent",
-                         self.julia_object_span,
-                         hint="`dyadc check` still checks its structure; a run needs Dyad's Julia "
-                              "runtime, or a medium declared in the model (`path medium::M = "
-                              "Struct(...)`) whose Julia struct and methods dyadc can read")
-
-    def error(self) -> DyadError:
-        """Why `simulate` refuses a partial model: what is open, and (as a note) what goes wrong
-        when it is closed as it stands."""
-        reason = self.reason
-        opened = {1: f"its connector {self.open_list()} is left open"}.get(
-            self.open_count, f"its {self.open_count} connectors {self.open_list()} are left open")
-        if self.declared_external:
-            return DyadError(f"`{self.model}` is an external component: its equations are "
-                             f"implemented in Julia, which dyadc cannot run", reason.span,
-                             hint="replace it by a component whose relations are written in Dyad")
-        if self.declared_partial:
-            head = f"`{self.model}` is declared partial: an incomplete component, it cannot be simulated"
-            hint = "simulate a model that uses a component extending it"
-        else:
-            head = f"`{self.model}` is a partial model: it cannot be simulated on its own"
-            hint = "simulate a model that uses it"
-        if self.open_count:
-            head += f"; {opened}"
-            hint += f" and connects {self.open_list()}"
-        if self.open_connectors:
-            hint += " (e.g. to sources and a reference such as Ground or Fixed)"
-        if self.open_inputs:
-            hint += "; an input is driven by connecting it to an output (e.g. a Constant block)"
-        notes = [Note(f"closed as it stands, {reason.message}", reason.span)]
-        return DyadError(head, reason.span, hint=hint, notes=notes)
 
 
 def assess(flat: FlatSystem) -> Verdict:
@@ -171,12 +89,6 @@ def require_standalone(flat: FlatSystem) -> Verdict:
     if verdict.julia_object_calls:
         raise verdict.julia_object_error()
     return verdict
-
-
-def _calls(names: tuple[str, ...]) -> str:
-    shown = ", ".join(f"`{name}`" for name in names[:3])
-    return ("function " if len(names) == 1 else "functions ") + shown \
-        + (f" and {len(names) - 3} more" if len(names) > 3 else "")
 
 
 def _with_julia_objects(flat: FlatSystem, verdict: Verdict) -> Verdict:
@@ -251,76 +163,3 @@ def _culprit_notes(flat: FlatSystem, top_flows: set[str]) -> list[Note]:
         notes.append(Note(f"under-determined: nothing determines all of "
                           f"{', '.join(under[:8])}{' ...' if len(under) > 8 else ''}"))
     return notes
-
-
-def require_tunable_overrides(flat: FlatSystem, overrides=None) -> None:
-    """Before a run: an override (`-p name=VALUE`) names no parameter that is fixed when the
-    model is compiled (a structural one sizes arrays and picks branches; a constant or `final`
-    one is bound by its declaration)."""
-    fixed = {p.name: p for p in flat.parameters if not p.tunable}
-    for name in overrides or ():
-        parameter = fixed.get(name)
-        if parameter is None:
-            continue
-        local = name.rsplit(".", 1)[-1]
-        if parameter.variability == "structural":
-            raise DyadError(
-                f"parameter `{name}` of `{flat.name}` is structural: it is fixed when the model is "
-                f"compiled (array sizes, branches), so a run cannot override it", parameter.origin.span,
-                hint=f"change it in the source: the value in its declaration, or a modifier where "
-                     f"its component is used, e.g. `Name({local} = VALUE)`")
-        what = "a constant" if parameter.variability == "constant" else "final"
-        raise DyadError(f"parameter `{name}` of `{flat.name}` is {what}: its declaration binds its "
-                        f"value, so a run cannot override it", parameter.origin.span,
-                        hint="override the parameters its value is computed from, if any")
-
-
-def require_parameter_values(flat: FlatSystem, used: set[str] | None = None, overrides=None) -> None:
-    """Before a run (and in `dyadc check`, which runs without overrides): every parameter the
-    equations use (`used`; default: those of `flat`'s equations) has a value, from its declaration,
-    a modifier where its component is used, or the caller (`-p name=VALUE`)."""
-    given = set(overrides or ())
-    used = used_parameter_names(flat) if used is None else used
-    missing = [p for p in flat.parameters
-               if p.name in used and p.value is None and p.default is None and p.name not in given]
-    if missing:
-        raise missing_values_error(flat, missing)
-
-
-def used_parameter_names(flat: FlatSystem) -> set[str]:
-    """The parameters `flat`'s equations and initial equations use, closed over the bindings of
-    other parameters."""
-    by_name = {p.name: p for p in flat.parameters}
-    pending = [s.name for e in flat.equations + flat.initial_equations
-               for s in e.residual.free_symbols if s.name in by_name]
-    used: set[str] = set()
-    while pending:
-        name = pending.pop()
-        if name in used:
-            continue
-        used.add(name)
-        default = by_name[name].default
-        if default is not None:
-            pending.extend(s.name for s in default.free_symbols if s.name in by_name)
-    return used
-
-
-def missing_values_error(flat: FlatSystem, missing: list) -> DyadError:
-    """Parameters without a value, located at the first one's declaration, with a note at the
-    place where its component is instantiated (where a value belongs) and a hint in its own type."""
-    first = missing[0]
-    names = ", ".join(f"`{p.name}`" for p in missing)
-    example = " ".join(f"-p {p.name}=VALUE" for p in missing[:3])
-    local = first.name.rsplit(".", 1)[-1]
-    notes = [Note(f"`{p.name}` is declared here without a value", p.origin.span) for p in missing[1:8]]
-    where = f"`parameter {local}::{first.type_name} = VALUE` in the declaration"
-    if first.instance_span is not None:
-        instance = first.origin.path.rsplit(".", 1)[-1]
-        notes.insert(0, Note(f"`{instance}` is instantiated here: give `{local}` a value in its "
-                             f"modifiers, e.g. `{local} = VALUE`", first.instance_span))
-        where = f"a modifier where `{instance}` is instantiated (`{local} = VALUE`, see the note)"
-    return DyadError(
-        f"parameter{'s' if len(missing) > 1 else ''} {names} of `{flat.name}` "
-        f"{'have' if len(missing) > 1 else 'has'} no value", first.origin.span, notes=notes,
-        hint=f"give a value in {where}, or when simulating (`dyadc simulate ... {example}`, or "
-             f"params={{'{first.name}': VALUE}} from Python)")

@@ -4,22 +4,15 @@ from __future__ import annotations
 import sympy
 
 from compiler.model.flat import FlatSystem
+from compiler.model.parameter_checks import parameter_closure
 from compiler.model.symbols import free_symbols
 from compiler.structure.reduced import ParameterInfo
 
 
 def used_parameters(flat: FlatSystem, expressions: list[sympy.Expr]) -> list[ParameterInfo]:
     by_symbol = {sympy.Symbol(p.name): p for p in flat.parameters}
-    used: set[sympy.Symbol] = set()
-    pending = [s for e in expressions for s in free_symbols(e) if s in by_symbol]
-    while pending:
-        s = pending.pop()
-        if s in used:
-            continue
-        used.add(s)
-        default = by_symbol[s].default
-        if default is not None:
-            pending.extend(d for d in default.free_symbols if d in by_symbol and d not in used)
+    direct = (s.name for e in expressions for s in free_symbols(e) if s in by_symbol)
+    used = {sympy.Symbol(name) for name in parameter_closure(flat, direct)}
     ordered: list[ParameterInfo] = []
     placed: set[sympy.Symbol] = set()
 
