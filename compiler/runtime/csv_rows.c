@@ -17,12 +17,14 @@ typedef unsigned __int128 u128;
 #define DIGITS 17
 #define MAX_POW5 27                     /* 5^27 < 2^63 */
 
-static uint64_t pow5[MAX_POW5 + 1];
-
-static void fill_pow5(void) {
-    pow5[0] = 1;
-    for (int i = 1; i <= MAX_POW5; i++) pow5[i] = pow5[i - 1] * 5;
-}
+/* 5^0 .. 5^27 */
+static const uint64_t pow5[MAX_POW5 + 1] = {
+    1ULL, 5ULL, 25ULL, 125ULL, 625ULL, 3125ULL, 15625ULL, 78125ULL, 390625ULL, 1953125ULL,
+    9765625ULL, 48828125ULL, 244140625ULL, 1220703125ULL, 6103515625ULL, 30517578125ULL,
+    152587890625ULL, 762939453125ULL, 3814697265625ULL, 19073486328125ULL, 95367431640625ULL,
+    476837158203125ULL, 2384185791015625ULL, 11920928955078125ULL, 59604644775390625ULL,
+    298023223876953125ULL, 1490116119384765625ULL, 7450580596923828125ULL
+};
 
 /* num / den, truncated, and whether rounding to nearest (ties to even) adds one. */
 static u128 divide(u128 num, u128 den, int *up) {
@@ -177,7 +179,6 @@ struct slot {
  * (size_t)-1 when memory runs out. */
 size_t dyadc_csv_rows(const double *const *distinct, int64_t distinct_count, int64_t rows,
                       const int64_t *fields, int64_t count, char *out) {
-    if (!pow5[0]) fill_pow5();
     struct slot *slots = calloc(distinct_count ? (size_t)distinct_count : 1, sizeof *slots);
     if (!slots) return (size_t)-1;
     char *start = out;

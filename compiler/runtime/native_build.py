@@ -36,8 +36,9 @@ def csv_library_path(folder: Path | None = None) -> Path:
 
 
 def build_csv_library(folder: Path | None = None, compiler: str | None = None) -> Path:
-    """Compile csv_rows.c into `csv_library_path(folder)`, atomically; an OSError without a C
-    compiler, a RuntimeError when the build fails."""
+    """Compile csv_rows.c into `csv_library_path(folder)`, atomically, and remove the libraries
+    built there from older sources; an OSError without a C compiler, a RuntimeError when the
+    build fails."""
     compiler = compiler or find_compiler()
     if compiler is None:
         raise OSError("no C compiler (gcc, cc or clang) found")
@@ -51,4 +52,7 @@ def build_csv_library(folder: Path | None = None, compiler: str | None = None) -
         os.replace(temp, target)
     finally:
         temp.unlink(missing_ok=True)
+    for old in target.parent.glob("csv_rows-*.so"):
+        if old != target:
+            old.unlink(missing_ok=True)
     return target

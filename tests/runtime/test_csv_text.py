@@ -106,3 +106,10 @@ def test_the_library_is_named_by_the_source_it_was_built_from(tmp_path, monkeypa
     first = csv_library_path()
     source.write_text("int b;\n")
     assert csv_library_path() != first and csv_library_path().parent == tmp_path
+
+
+@needs_cc
+def test_a_build_removes_the_libraries_of_older_sources(tmp_path):
+    (tmp_path / "csv_rows-0123456789abcdef.so").write_bytes(b"built from an older csv_rows.c")
+    built = build_csv_library(tmp_path)
+    assert sorted(tmp_path.iterdir()) == [built] and built == csv_library_path(tmp_path)
