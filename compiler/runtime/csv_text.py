@@ -71,12 +71,16 @@ def distinct_columns(columns: list[np.ndarray]) -> tuple[list[np.ndarray], list[
     """(distinct, fields): the columns that differ (bit for bit), and for each column the index
     of its distinct column, or `~index` where it is that column negated (never for a column with
     NaN, whose `%.17g` has no sign). A model's aliases and opposite flows repeat: the excavator's
-    631 signals are 286 distinct columns, 45 of them the negation of another."""
+    631 signals are 286 distinct columns, 45 of them the negation of another. A ValueError if
+    the columns differ in length (the C routine reads each one `length` values far)."""
     index: dict[bytes, int] = {}
     distinct: list[np.ndarray] = []
     fields: list[int] = []
     for column in columns:
-        column = np.ascontiguousarray(column, dtype=float)
+        column = np.ascontiguousarray(column, dtype=float).reshape(-1)
+        length = len(distinct[0]) if distinct else len(column)
+        if len(column) != length:
+            raise ValueError(f"a CSV column has {len(column)} values, the first {length}")
         key = column.tobytes()
         found = index.get(key)
         if found is None:

@@ -99,6 +99,11 @@ def test_distinct_columns_name_aliases_and_negations_but_never_negate_nan():
     assert len(distinct) == len(columns) - 4
 
 
+def test_columns_of_different_lengths_are_refused_before_any_formatting():
+    with pytest.raises(ValueError, match="a CSV column has 2 values, the first 3"):
+        csv_text.csv_rows([np.zeros(3), np.zeros(2)])
+
+
 def test_the_library_is_named_by_the_source_it_was_built_from(tmp_path, monkeypatch):
     source = tmp_path / "csv_rows.c"
     source.write_text("int a;\n")
