@@ -44,3 +44,15 @@ def test_r2t_gear_moves_the_mass_with_the_reduced_inertia(res):
     phi = t**2 / (2 * 0.6875)
     np.testing.assert_allclose(res["inertia.phi"], phi, atol=1e-8)
     np.testing.assert_allclose(res["gear_mass.s"], phi / 4, atol=1e-8)
+
+
+def test_user_components_on_dyads_force_and_two_flange_partials():
+    """A push on PartialForce and a 2:1 lever on PartialElementaryTwoFlangesAndSupport2, written
+    the way a user extends them (tests/models/Stdlib/TranslationalPartials.dyad)."""
+    res = Compiled().run("TranslationalPartials", 2.0)
+    t = res.time
+    np.testing.assert_allclose(res["mass1.s"], t**2, atol=1e-8)            # 3 N on 1.5 kg
+    np.testing.assert_allclose(res["push.s"], res["mass1.s"], atol=1e-10)
+    np.testing.assert_allclose(res["mass2.s"], 0.75 * t**2, atol=1e-8)     # 2 * 3 N on 4 kg
+    # The ground takes the reaction of everything the masses gain: 3 N + 6 N.
+    np.testing.assert_allclose(res["fixed.flange.f"], -9.0, atol=1e-9)
