@@ -7,8 +7,8 @@ stream, retypes the `end` of a case (or of a switch's `else`) to CASE_END. The r
 both forms are written in (and `dyadc fmt` prints): a case's `end` stands deeper than its `switch`
 keyword, the switch's own `end` stands at the keyword's column. Where the layout is flat (cases
 written at the column of their `switch`), the tokens decide: an `end` followed by another `case`
-(or the switch's `else`) not left of the `switch` closes a case, and once one case of a switch was closed so, every case of
-that switch is (the Dyad form throughout).
+(or the switch's `else`) not left of the `switch` closes a case, and once one case of a switch
+was closed so, every case of that switch is (the Dyad form throughout).
 """
 from __future__ import annotations
 
