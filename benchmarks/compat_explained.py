@@ -91,8 +91,9 @@ EXPLAINED: dict[str, Explanation] = {
     "ElectricalComponents/dyad/rotational_emf.dyad:RotationalEMF": Explanation(
         "is unbalanced",
         "`tau = rotor.tau` is the only equation for a flange torque: no equation gives the "
-        "housing's torque `housing.tau` (the reaction torque, rotor.tau + housing.tau = 0, is "
-        "missing)", *_EMF_LINE),
+        "housing's torque `housing.tau`; the reaction torque 0 = rotor.tau + housing.tau, which "
+        "Dyad's documentation of ElectricalComponents lists among RotationalEMF's equations "
+        "(help.juliahub.com, RotationalEMFTest behaviour), is missing", *_EMF_LINE),
     "ElectricalComponents/dyad/rotational_emf_test.dyad:RotationalEMFTest": Explanation(
         "is unbalanced", "its `rot_emf` is the RotationalEMF above, one equation short: nothing "
         "gives `housing.tau`", *_EMF_LINE),
