@@ -1,4 +1,4 @@
-"""The published test values that benchmarks/compat_explained.py counts as wrong (issue 17).
+"""The published test values that benchmarks/compat_explained_values.py counts as wrong (issue 17).
 
 For every reviewed case: its independent value is recomputed here (tests/compat/independent.py,
 no dyadc), lies outside the case's own tolerance around the published value, and dyadc's run of
