@@ -69,3 +69,25 @@ def test_a_modifier_that_depends_on_the_iterator_is_located(sources):
     """, "Bad", marker="u = [RealInput(guess = i)")
     assert error.message == ("a modifier of the signal connector array `u` depends on its "
                              "iterator `i`: every element of such an array shares its modifiers")
+
+
+def test_elements_of_a_sized_input_connect_the_same_way(sources):
+    path = sources.write("Model.dyad", MUX + """
+    component Pair
+      input u::Real[2]
+      output y::Real
+    relations
+      y = u[1] - u[2]
+    end
+
+    component Rig
+      p = Pair()
+      a = Source(value = 7)
+      b = Source(value = 3)
+    relations
+      connect(a.y, p.u[1])
+      connect(b.y, p.u[2])
+    end
+    """)
+    result = simulate(f"{path}:Rig", stop=1.0, points=2)
+    assert result["p.y"][-1] == 4
