@@ -1,0 +1,383 @@
+/* dyadc's native IDAS driver: SUNDIALS IDAS on a model's CasADi-generated C functions, called
+ * from Python through ctypes (compiler/native/library.py). The residual F(t, y, y') = [x' - ode;
+ * alg] with y = [x; z], its Jacobian dF/dy + cj dF/dy' and the watched zero functions are all
+ * evaluated here, from the model's shared library (dyad_dae, jac_dyad_dae, dyad_watch: CasADi's
+ * public calling convention), so a run makes no Python call per evaluation. One call of
+ * dyad_ida_advance steps IDAS in one-step mode to a stop time, writes the output times it passes
+ * by dense output, and stops early at a root of a watched row or where a state runs away. */
+#include <dlfcn.h>
+#include <float.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <idas/idas.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#define DYAD_EXPORT __attribute__((visibility("default")))
+
+typedef long long int cs_int;
+typedef int (*cs_eval)(const double **arg, double **res, cs_int *iw, double *w, int mem);
+typedef int (*cs_work)(cs_int *sz_arg, cs_int *sz_res, cs_int *sz_iw, cs_int *sz_w);
+typedef const cs_int *(*cs_sparsity)(cs_int i);
+typedef int (*cs_checkout)(void);
+typedef void (*cs_release)(int mem);
+
+/* One CasADi-generated function with its own work arrays. */
+typedef struct {
+  cs_eval eval;
+  cs_sparsity sparsity_out;
+  cs_release release;
+  const double **arg;
+  double **res;
+  cs_int *iw;
+  double *w;
+  int mem;
+  int n_res;
+} Function;
+
+typedef struct {
+  void *library;
+  Function dae, jac, watch;
+  int nx, nz, np, nrows;
+  double t_model;          /* the time the functions were last asked at (for messages) */
+  double *p, *ode, *alg;
+  double watch_atol;
+  int *active;             /* watched rows looked at (1) or ignored (0: a constant 1.0) */
+  int *found;
+  double *jac_values[20];  /* the Jacobian blocks d(ode, alg)/d(x, z), by output of jac_dyad_dae */
+  SUNContext ctx;
+  void *ida;
+  N_Vector y, yp, scratch;
+  SUNMatrix J;
+  SUNLinearSolver LS;
+  char message[1024];
+} Driver;
+
+static int load_function(Driver *d, Function *f, const char *name) {
+  char symbol[128];
+  cs_work work;
+  cs_checkout checkout;
+  cs_int sz_arg = 0, sz_res = 0, sz_iw = 0, sz_w = 0;
+  f->eval = (cs_eval)dlsym(d->library, name);
+  snprintf(symbol, sizeof symbol, "%s_work", name);
+  work = (cs_work)dlsym(d->library, symbol);
+  snprintf(symbol, sizeof symbol, "%s_sparsity_out", name);
+  f->sparsity_out = (cs_sparsity)dlsym(d->library, symbol);
+  snprintf(symbol, sizeof symbol, "%s_checkout", name);
+  checkout = (cs_checkout)dlsym(d->library, symbol);
+  snprintf(symbol, sizeof symbol, "%s_release", name);
+  f->release = (cs_release)dlsym(d->library, symbol);
+  if (!f->eval || !work || !f->sparsity_out) {
+    snprintf(d->message, sizeof d->message, "the model's library has no function %s", name);
+    return -1;
+  }
+  work(&sz_arg, &sz_res, &sz_iw, &sz_w);
+  f->arg = calloc(sz_arg + 1, sizeof(double *));
+  f->res = calloc(sz_res + 1, sizeof(double *));
+  f->iw = calloc(sz_iw + 1, sizeof(cs_int));
+  f->w = calloc(sz_w + 1, sizeof(double));
+  f->n_res = (int)sz_res;
+  f->mem = checkout ? checkout() : 0;
+  return 0;
+}
+
+static void free_function(Function *f) {
+  if (f->release && f->eval) f->release(f->mem);
+  free(f->arg); free(f->res); free(f->iw); free(f->w);
+}
+
+/* ode and alg at (t, x, z) with the call's parameters; nonzero where a value is not finite */
+static int eval_dae(Driver *d, double t, const double *x, const double *z) {
+  int i;
+  d->t_model = t;
+  d->dae.arg[0] = &t; d->dae.arg[1] = x; d->dae.arg[2] = z; d->dae.arg[3] = d->p;
+  d->dae.arg[4] = NULL;
+  memset(d->dae.res, 0, d->dae.n_res * sizeof(double *));
+  d->dae.res[0] = d->ode; d->dae.res[1] = d->alg;
+  if (d->dae.eval(d->dae.arg, d->dae.res, d->dae.iw, d->dae.w, d->dae.mem)) return 1;
+  for (i = 0; i < d->nx; i++) if (!isfinite(d->ode[i])) return 1;
+  for (i = 0; i < d->nz; i++) if (!isfinite(d->alg[i])) return 1;
+  return 0;
+}
+
+static int residual(sunrealtype t, N_Vector y, N_Vector yp, N_Vector rr, void *data) {
+  Driver *d = data;
+  const double *yv = N_VGetArrayPointer(y), *ypv = N_VGetArrayPointer(yp);
+  double *r = N_VGetArrayPointer(rr);
+  int i;
+  if (eval_dae(d, t, yv, yv + d->nx)) return 1;     /* recoverable: IDAS cuts the step */
+  for (i = 0; i < d->nx; i++) r[i] = ypv[i] - d->ode[i];
+  for (i = 0; i < d->nz; i++) r[d->nx + i] = d->alg[i];
+  return 0;
+}
+
+/* add `sign` times the sparse block of output `k` at (row0, col0) of the dense matrix J */
+static void scatter(Driver *d, SUNMatrix J, int k, double sign, int row0, int col0) {
+  const cs_int *sp = d->jac.sparsity_out(k);
+  const double *v = d->jac.res[k];
+  cs_int nrow = sp[0], ncol = sp[1], c, e;
+  if (nrow == 0 || ncol == 0) return;
+  if (sp[2] == 1) {                                    /* CasADi's compact dense form */
+    for (c = 0; c < ncol; c++)
+      for (e = 0; e < nrow; e++)
+        SM_ELEMENT_D(J, row0 + e, col0 + c) += sign * v[c * nrow + e];
+    return;
+  }
+  for (c = 0; c < ncol; c++)
+    for (e = sp[2 + c]; e < sp[3 + c]; e++)
+      SM_ELEMENT_D(J, row0 + sp[3 + ncol + e], col0 + c) += sign * v[e];
+}
+
+/* outputs j * 5 + i of jac_dyad_dae (ccodegen.state_jacobian): d(ode, alg)/d(x, z) are j in
+ * {0, 1}, i in {1, 2}; the others are structurally zero and not computed */
+static int is_state_block(int k) { return k / 5 <= 1 && (k % 5 == 1 || k % 5 == 2); }
+
+static int jacobian(sunrealtype t, sunrealtype cj, N_Vector y, N_Vector yp, N_Vector rr,
+                    SUNMatrix J, void *data, N_Vector t1, N_Vector t2, N_Vector t3) {
+  Driver *d = data;
+  const double *yv = N_VGetArrayPointer(y);
+  int i, k;
+  (void)yp; (void)rr; (void)t1; (void)t2; (void)t3;
+  memset(d->jac.arg, 0, 9 * sizeof(double *));
+  d->jac.arg[0] = &t; d->jac.arg[1] = yv; d->jac.arg[2] = yv + d->nx; d->jac.arg[3] = d->p;
+  memset(d->jac.res, 0, d->jac.n_res * sizeof(double *));
+  for (k = 0; k < 20; k++) d->jac.res[k] = d->jac_values[k];
+  if (d->jac.eval(d->jac.arg, d->jac.res, d->jac.iw, d->jac.w, d->jac.mem)) return 1;
+  SUNMatZero(J);
+  scatter(d, J, 1, -1.0, 0, 0);
+  scatter(d, J, 2, -1.0, 0, d->nx);
+  scatter(d, J, 6, 1.0, d->nx, 0);
+  scatter(d, J, 7, 1.0, d->nx, d->nx);
+  for (i = 0; i < d->nx; i++) SM_ELEMENT_D(J, i, i) += cj;
+  return 0;
+}
+
+static int allocate_jacobian(Driver *d) {
+  int k;
+  for (k = 0; k < 20; k++) {
+    const cs_int *sp;
+    if (!is_state_block(k)) continue;
+    sp = d->jac.sparsity_out(k);
+    if (!sp) return -1;
+    d->jac_values[k] = calloc((sp[2] == 1 || sp[1] == 0 ? sp[0] * sp[1] : sp[2 + sp[1]]) + 1,
+                              sizeof(double));
+  }
+  return 0;
+}
+
+/* the watched rows; 0 is taken as below zero, so that a row that starts at zero and rises is a
+ * sign change (the same reading as the sampled path's `value > 0`) */
+static int roots(sunrealtype t, N_Vector y, N_Vector yp, sunrealtype *g, void *data) {
+  Driver *d = data;
+  const double *yv = N_VGetArrayPointer(y);
+  int i;
+  (void)yp;
+  d->watch.arg[0] = yv; d->watch.arg[1] = yv + d->nx; d->watch.arg[2] = d->p;
+  d->watch.arg[3] = &t; d->watch.arg[4] = &d->watch_atol;
+  memset(d->watch.res, 0, d->watch.n_res * sizeof(double *));
+  d->watch.res[0] = g;
+  if (d->watch.eval(d->watch.arg, d->watch.res, d->watch.iw, d->watch.w, d->watch.mem)) return -1;
+  for (i = 0; i < d->nrows; i++) {
+    if (!d->active[i]) g[i] = 1.0;
+    else if (g[i] == 0.0) g[i] = -DBL_MIN;
+  }
+  return 0;
+}
+
+static void keep_message(int line, const char *func, const char *file, const char *msg,
+                         SUNErrCode code, void *data, SUNContext ctx) {
+  Driver *d = data;
+  (void)line; (void)file; (void)code; (void)ctx;
+  snprintf(d->message, sizeof d->message, "%s: %s", func ? func : "IDAS", msg ? msg : "");
+}
+
+DYAD_EXPORT const char *dyad_ida_message(Driver *d) { return d->message; }
+
+DYAD_EXPORT void dyad_ida_free(Driver *d) {
+  if (!d) return;
+  if (d->ida) IDAFree(&d->ida);
+  if (d->LS) SUNLinSolFree(d->LS);
+  if (d->J) SUNMatDestroy(d->J);
+  if (d->y) N_VDestroy(d->y);
+  if (d->yp) N_VDestroy(d->yp);
+  if (d->scratch) N_VDestroy(d->scratch);
+  if (d->ctx) SUNContext_Free(&d->ctx);
+  free_function(&d->dae); free_function(&d->jac); free_function(&d->watch);
+  free(d->p); free(d->ode); free(d->alg); free(d->active); free(d->found);
+  for (int k = 0; k < 20; k++) free(d->jac_values[k]);
+  if (d->library) dlclose(d->library);
+  free(d);
+}
+
+/* A driver on the model library at `path`; NULL with `error` filled where it cannot be made. */
+DYAD_EXPORT Driver *dyad_ida_new(const char *path, int nx, int nz, int np, int nrows, char *error, int size) {
+  Driver *d = calloc(1, sizeof(Driver));
+  int ok;
+  d->nx = nx; d->nz = nz; d->np = np; d->nrows = nrows;
+  d->library = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+  if (!d->library) {
+    snprintf(error, size, "%s", dlerror());
+    free(d);
+    return NULL;
+  }
+  ok = load_function(d, &d->dae, "dyad_dae") == 0 && load_function(d, &d->jac, "jac_dyad_dae") == 0
+       && (nrows == 0 || load_function(d, &d->watch, "dyad_watch") == 0) && allocate_jacobian(d) == 0;
+  d->p = calloc(np + 1, sizeof(double));
+  d->ode = calloc(nx + 1, sizeof(double));
+  d->alg = calloc(nz + 1, sizeof(double));
+  d->active = calloc(nrows + 1, sizeof(int));
+  d->found = calloc(nrows + 1, sizeof(int));
+  if (ok && SUNContext_Create(SUN_COMM_NULL, &d->ctx) != 0) {
+    snprintf(d->message, sizeof d->message, "SUNContext_Create failed");
+    ok = 0;
+  }
+  if (!ok) {
+    snprintf(error, size, "%s", d->message);
+    dyad_ida_free(d);
+    return NULL;
+  }
+  SUNContext_ClearErrHandlers(d->ctx);
+  SUNContext_PushErrHandler(d->ctx, keep_message, d);
+  d->y = N_VNew_Serial(nx + nz, d->ctx);
+  d->yp = N_VNew_Serial(nx + nz, d->ctx);
+  d->scratch = N_VNew_Serial(nx + nz, d->ctx);
+  return d;
+}
+
+/* IDAS for this driver: relative tolerance, absolute tolerance per unknown, the algebraic
+ * unknowns out of the error test or not, the largest step and order (0: IDAS's own), dense LU on
+ * our Jacobian, the watched rows with their directions (0 both ways, -1 from + to -). */
+DYAD_EXPORT int dyad_ida_setup(Driver *d, double rtol, const double *atol, int suppress_alg, double max_step,
+                   int max_order, const int *directions, double watch_atol) {
+  int n = d->nx + d->nz, i, flag;
+  N_Vector tolerances = N_VNew_Serial(n, d->ctx), id = N_VNew_Serial(n, d->ctx);
+  for (i = 0; i < n; i++) {
+    NV_Ith_S(tolerances, i) = atol[i];
+    NV_Ith_S(id, i) = i < d->nx ? 1.0 : 0.0;
+  }
+  N_VConst(0.0, d->y);
+  N_VConst(0.0, d->yp);
+  d->watch_atol = watch_atol;
+  d->ida = IDACreate(d->ctx);
+  flag = d->ida ? IDAInit(d->ida, residual, 0.0, d->y, d->yp) : IDA_MEM_FAIL;
+  if (!flag) flag = IDASVtolerances(d->ida, rtol, tolerances);
+  if (!flag) flag = IDASetUserData(d->ida, d);
+  if (!flag) flag = IDASetId(d->ida, id);
+  if (!flag) flag = IDASetSuppressAlg(d->ida, suppress_alg ? SUNTRUE : SUNFALSE);
+  if (!flag && max_step > 0) flag = IDASetMaxStep(d->ida, max_step);
+  if (!flag && max_order > 0) flag = IDASetMaxOrd(d->ida, max_order);
+  if (!flag) {
+    d->J = SUNDenseMatrix(n, n, d->ctx);
+    d->LS = SUNLinSol_Dense(d->y, d->J, d->ctx);
+    flag = d->J && d->LS ? IDASetLinearSolver(d->ida, d->LS, d->J) : IDA_MEM_FAIL;
+  }
+  if (!flag) flag = IDASetJacFn(d->ida, jacobian);
+  if (!flag && d->nrows > 0) {
+    flag = IDARootInit(d->ida, d->nrows, roots);
+    if (!flag) flag = IDASetRootDirection(d->ida, (int *)directions);
+    if (!flag) flag = IDASetNoInactiveRootWarn(d->ida);
+  }
+  N_VDestroy(tolerances);
+  N_VDestroy(id);
+  return flag;
+}
+
+/* IDAS restarted cold at (t0, x0, z0) with parameters p: der(x) from the model there, der(z) 0
+ * (the point solves the algebraic equations already); `active` the watched rows looked at,
+ * `step0` the first step (0: IDAS's own). */
+DYAD_EXPORT int dyad_ida_restart(Driver *d, double t0, const double *x0, const double *z0, const double *p,
+                     const int *active, double step0) {
+  int i, flag;
+  double *y = N_VGetArrayPointer(d->y), *yp = N_VGetArrayPointer(d->yp);
+  memcpy(d->p, p, d->np * sizeof(double));
+  for (i = 0; i < d->nrows; i++) d->active[i] = active[i];
+  memcpy(y, x0, d->nx * sizeof(double));
+  memcpy(y + d->nx, z0, d->nz * sizeof(double));
+  if (eval_dae(d, t0, y, y + d->nx)) {
+    snprintf(d->message, sizeof d->message, "the equations have no finite value at the start");
+    return IDA_FIRST_RES_FAIL;
+  }
+  memcpy(yp, d->ode, d->nx * sizeof(double));
+  for (i = 0; i < d->nz; i++) yp[d->nx + i] = 0.0;
+  flag = IDAReInit(d->ida, t0, d->y, d->yp);
+  if (!flag) flag = IDASetInitStep(d->ida, step0 > 0 ? step0 : 0.0);
+  return flag;
+}
+
+static void copy_point(Driver *d, N_Vector v, double *x, double *z) {
+  const double *y = N_VGetArrayPointer(v);
+  memcpy(x, y, d->nx * sizeof(double));
+  memcpy(z, y + d->nx, d->nz * sizeof(double));
+}
+
+static int runs_away(Driver *d, const double *limit) {
+  const double *y = N_VGetArrayPointer(d->y);
+  int i;
+  for (i = 0; i < d->nx; i++)
+    if (!isfinite(y[i]) || fabs(y[i]) > limit[i]) return 1;
+  return 0;
+}
+
+/* Step IDAS (one-step mode, stop time `reach`) from where it is. The states at the n_out output
+ * times it passes go to xs, zs (one time after another), their count to n_done. Returns 0 at
+ * `reach`, 1 at a root of watched row `row` (`direction` +1: it rose), 2 where a state is not
+ * finite or beyond `limit`, IDA_TOO_MUCH_WORK after max_steps steps without an output time, or
+ * IDAS's own negative flag; (t, x, z) is where it stopped. */
+DYAD_EXPORT int dyad_ida_advance(Driver *d, double reach, int n_out, const double *outputs, double *xs,
+                     double *zs, int *n_done, const double *limit, long max_steps, double *t,
+                     double *x, double *z, int *row, int *direction) {
+  double tret = 0.0;
+  long steps = 0;
+  int flag, k = 0, i;
+  *n_done = 0;
+  *row = -1;
+  *direction = 0;
+  flag = IDASetStopTime(d->ida, reach);
+  while (!flag) {
+    flag = IDASolve(d->ida, reach, &tret, d->y, d->yp, IDA_ONE_STEP);
+    if (flag < 0) break;
+    for (; k < n_out && outputs[k] <= tret; k++, steps = 0) {
+      if (IDAGetDky(d->ida, outputs[k], 0, d->scratch)) N_VScale(1.0, d->y, d->scratch);
+      copy_point(d, d->scratch, xs + (size_t)k * d->nx, zs + (size_t)k * d->nz);
+    }
+    *n_done = k;
+    *t = tret;
+    copy_point(d, d->y, x, z);
+    if (runs_away(d, limit)) return 2;
+    if (flag == IDA_TSTOP_RETURN) return 0;
+    if (flag == IDA_ROOT_RETURN) {
+      IDAGetRootInfo(d->ida, d->found);
+      for (i = 0; i < d->nrows && *row < 0; i++)
+        if (d->found[i] && d->active[i]) { *row = i; *direction = d->found[i]; }
+      if (*row >= 0) return 1;
+      flag = 0;
+      continue;
+    }
+    if (++steps >= max_steps) {
+      snprintf(d->message, sizeof d->message, "%ld steps taken before the next output time", steps);
+      return IDA_TOO_MUCH_WORK;
+    }
+  }
+  IDAGetCurrentTime(d->ida, t);
+  return flag;
+}
+
+/* IDAS's counters since its last restart: steps, residual evaluations, Jacobian evaluations,
+ * linear solver setups, error test failures, Newton iterations, Newton convergence failures. */
+DYAD_EXPORT void dyad_ida_stats(Driver *d, long *out) {
+  IDAGetNumSteps(d->ida, &out[0]);
+  IDAGetNumResEvals(d->ida, &out[1]);
+  IDAGetNumJacEvals(d->ida, &out[2]);
+  IDAGetNumLinSolvSetups(d->ida, &out[3]);
+  IDAGetNumErrTestFails(d->ida, &out[4]);
+  IDAGetNumNonlinSolvIters(d->ida, &out[5]);
+  IDAGetNumNonlinSolvConvFails(d->ida, &out[6]);
+}
+
+/* The SUNDIALS version this library was built from. */
+DYAD_EXPORT const char *dyad_ida_sundials_version(void) { return SUNDIALS_VERSION; }
