@@ -25,7 +25,8 @@ ROOT = PACKAGE.parent
 # (matching, Dulmage-Mendelsohn, BLT, Pantelides, tearing on plain lists) import nothing of the
 # compiler, and the model's balance checks use them before the structure stage runs.
 LAYERS = (
-    ("errors", "runtime", "native", "compiler"),
+    ("errors", "runtime", "compiler"),
+    ("native",),
     ("syntax",),
     ("julia",),
     ("structure.graph",),

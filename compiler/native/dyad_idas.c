@@ -48,6 +48,7 @@ typedef struct {
   double *p, *ode, *alg;
   double watch_atol;
   int *active;             /* watched rows looked at (1) or ignored (0: a constant 1.0) */
+  int *zero_side;          /* the sign a row's exact zero is taken as (its relation's value there) */
   int *found;
   double *jac_values[20];  /* the Jacobian blocks d(ode, alg)/d(x, z), by output of jac_dyad_dae */
   SUNContext ctx;
@@ -170,8 +171,9 @@ static int allocate_jacobian(Driver *d) {
   return 0;
 }
 
-/* the watched rows; 0 is taken as below zero, so that a row that starts at zero and rises is a
- * sign change (the same reading as the sampled path's `value > 0`) */
+/* the watched rows; an exact zero is taken as the side whose relation value it shares (`x > 0`
+ * is false at zero: below; `x < 0` false: above), so that a row that starts at zero and leaves
+ * it to where its relation changes is a sign change */
 static int roots(sunrealtype t, N_Vector y, N_Vector yp, sunrealtype *g, void *data) {
   Driver *d = data;
   const double *yv = N_VGetArrayPointer(y);
@@ -184,7 +186,7 @@ static int roots(sunrealtype t, N_Vector y, N_Vector yp, sunrealtype *g, void *d
   if (d->watch.eval(d->watch.arg, d->watch.res, d->watch.iw, d->watch.w, d->watch.mem)) return -1;
   for (i = 0; i < d->nrows; i++) {
     if (!d->active[i]) g[i] = 1.0;
-    else if (g[i] == 0.0) g[i] = -DBL_MIN;
+    else if (g[i] == 0.0) g[i] = d->zero_side[i] * DBL_MIN;
   }
   return 0;
 }
@@ -208,7 +210,7 @@ DYAD_EXPORT void dyad_ida_free(Driver *d) {
   if (d->scratch) N_VDestroy(d->scratch);
   if (d->ctx) SUNContext_Free(&d->ctx);
   free_function(&d->dae); free_function(&d->jac); free_function(&d->watch);
-  free(d->p); free(d->ode); free(d->alg); free(d->active); free(d->found);
+  free(d->p); free(d->ode); free(d->alg); free(d->active); free(d->found); free(d->zero_side);
   for (int k = 0; k < 20; k++) free(d->jac_values[k]);
   if (d->library) dlclose(d->library);
   free(d);
@@ -231,6 +233,7 @@ DYAD_EXPORT Driver *dyad_ida_new(const char *path, int nx, int nz, int np, int n
   d->ode = calloc(nx + 1, sizeof(double));
   d->alg = calloc(nz + 1, sizeof(double));
   d->active = calloc(nrows + 1, sizeof(int));
+  d->zero_side = calloc(nrows + 1, sizeof(int));
   d->found = calloc(nrows + 1, sizeof(int));
   if (ok && SUNContext_Create(SUN_COMM_NULL, &d->ctx) != 0) {
     snprintf(d->message, sizeof d->message, "SUNContext_Create failed");
@@ -251,10 +254,12 @@ DYAD_EXPORT Driver *dyad_ida_new(const char *path, int nx, int nz, int np, int n
 
 /* IDAS for this driver: relative tolerance, absolute tolerance per unknown, the algebraic
  * unknowns out of the error test or not, the largest step and order (0: IDAS's own), dense LU on
- * our Jacobian, the watched rows with their directions (0 both ways, -1 from + to -). */
+ * our Jacobian, the watched rows with their directions (0 both ways, -1 from + to -) and the
+ * sides their exact zeros count as (+1 or -1). */
 DYAD_EXPORT int dyad_ida_setup(Driver *d, double rtol, const double *atol, int suppress_alg, double max_step,
-                   int max_order, const int *directions, double watch_atol) {
+                   int max_order, const int *directions, const int *zero_sides, double watch_atol) {
   int n = d->nx + d->nz, i, flag;
+  for (i = 0; i < d->nrows; i++) d->zero_side[i] = zero_sides[i] > 0 ? 1 : -1;
   N_Vector tolerances = N_VNew_Serial(n, d->ctx), id = N_VNew_Serial(n, d->ctx);
   for (i = 0; i < n; i++) {
     NV_Ith_S(tolerances, i) = atol[i];
@@ -294,6 +299,7 @@ DYAD_EXPORT int dyad_ida_restart(Driver *d, double t0, const double *x0, const d
                      const int *active, double step0) {
   int i, flag;
   double *y = N_VGetArrayPointer(d->y), *yp = N_VGetArrayPointer(d->yp);
+  d->message[0] = '\0';
   memcpy(d->p, p, d->np * sizeof(double));
   for (i = 0; i < d->nrows; i++) d->active[i] = active[i];
   memcpy(y, x0, d->nx * sizeof(double));
@@ -335,6 +341,7 @@ DYAD_EXPORT int dyad_ida_advance(Driver *d, double reach, int n_out, const doubl
   long steps = 0;
   int flag, k = 0, i;
   *n_done = 0;
+  d->message[0] = '\0';
   *row = -1;
   *direction = 0;
   flag = IDASetStopTime(d->ida, reach);

@@ -51,7 +51,7 @@ def _load(path: Path) -> tuple[ctypes.CDLL | None, str]:
         "dyad_ida_new": (vp, [ci, i, i, i, i, ctypes.c_char_p, i]),
         "dyad_ida_free": (None, [vp]),
         "dyad_ida_message": (ci, [vp]),
-        "dyad_ida_setup": (i, [vp, d, _DOUBLES, i, d, i, _INTS, d]),
+        "dyad_ida_setup": (i, [vp, d, _DOUBLES, i, d, i, _INTS, _INTS, d]),
         "dyad_ida_restart": (i, [vp, d, _DOUBLES, _DOUBLES, _DOUBLES, _INTS, d]),
         "dyad_ida_advance": (i, [vp, d, i, _DOUBLES, _DOUBLES, _DOUBLES, ctypes.POINTER(i), _DOUBLES,
                                  ctypes.c_long, ctypes.POINTER(d), _DOUBLES, _DOUBLES,
@@ -98,10 +98,11 @@ class Driver:
         return self.lib.dyad_ida_message(self.handle).decode(errors="replace")
 
     def setup(self, rtol: float, atol: np.ndarray, suppress_algebraic: bool, max_step: float,
-              max_order: int, directions: np.ndarray, watch_atol: float) -> int:
+              max_order: int, directions: np.ndarray, zero_sides: np.ndarray, watch_atol: float) -> int:
         return self.lib.dyad_ida_setup(self.handle, rtol, np.ascontiguousarray(atol, dtype=float),
                                        int(suppress_algebraic), max_step, max_order,
-                                       np.ascontiguousarray(directions, dtype=np.intc), watch_atol)
+                                       np.ascontiguousarray(directions, dtype=np.intc),
+                                       np.ascontiguousarray(zero_sides, dtype=np.intc), watch_atol)
 
     def restart(self, t0: float, x0, z0, p, active: np.ndarray, step0: float) -> int:
         return self.lib.dyad_ida_restart(self.handle, t0, _vector(x0), _vector(z0), _vector(p),

@@ -1,0 +1,122 @@
+"""Runs on the native IDAS driver (compiler.native.make_integrator) against closed forms, the
+excavator's golden trajectory and CasADi's IDAS: the same numbers within tolerance, events found
+by IDAS's root finding (with direction) where sampling misses them, and CasADi's IDAS with a
+warning where the native driver cannot run a model."""
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from compiler import api, runtime
+from compiler.cache.c_code import compile_c
+from compiler.native import NativeIdasWarning, library, make_integrator
+from compiler.testing.golden import integrator_atol
+from compiler.testing.golden_cases import discover
+from compiler.testing.golden_compare import compare_signals, golden_path, read_golden, signal_values
+from tests.runtime import runtime_systems as systems
+from tests.runtime.lowered import compile_model
+
+pytestmark = pytest.mark.skipif(library.driver_library()[0] is None,
+                                reason="native IDAS driver not built (make install builds it)")
+GOLDEN = Path(__file__).resolve().parents[1] / "golden"
+EXCAVATOR = "MultibodyComponents.PlanarMechanics.examples.excavator.Excavator"
+
+
+def c_model(tmp_path, name: str, body: str):
+    path = tmp_path / f"{name}.dyad"
+    path.write_text(f"component {name}\n{body}\nend\n", encoding="utf-8")
+    return compile_c(api.compile(str(path)).model)
+
+
+def native(model, stop, **options):
+    result = runtime.simulate(model, stop, integrator=make_integrator, **options)
+    assert result.stats["integrator"] == "native"
+    return result
+
+
+def test_the_excavator_dig_cycle_matches_its_golden():
+    (case,) = [c for c in discover() if c.model == EXCAVATOR]
+    compilation = api.compile(EXCAVATOR)
+    result = native(compile_c(compilation.model), case.stop, start=case.start, rtol=case.rtol,
+                    atol=integrator_atol(compilation, case, case.rtol), points=case.points)
+    checks, _ = compare_signals(case, result.time, signal_values(result, list(case.signals)),
+                                read_golden(golden_path(GOLDEN, case)))
+    assert len(checks) == 64 and [c.name for c in checks if not c.passed] == []
+    assert max(c.ratio for c in checks) < 0.5         # well inside every tube
+
+
+@pytest.mark.parametrize("reduced, stop, rtol", [
+    (systems.robertson(), 40.0, 1e-8), (systems.pendulum_cartesian(0.9), 3.0, 1e-9),
+    (systems.mass_chain(6), 2.0, 1e-9), (systems.rc_circuit(), 1.0, 1e-9)],
+    ids=["robertson", "pendulum", "mass_chain", "rc"])
+def test_the_same_numbers_as_casadi_idas(reduced, stop, rtol):
+    model = compile_model(reduced, codegen="c")
+    ours = native(model, stop, rtol=rtol, atol=rtol * 1e-2, points=51)
+    theirs = runtime.simulate(model, stop, rtol=rtol, atol=rtol * 1e-2, points=51)
+    assert theirs.stats["integrator"] == "casadi"
+    # per signal, relative to its largest value; 1e-7 absolute for what is itself an error (the
+    # pendulum's rod_error, the constraint's drift: 4e-8 on one path, 8e-9 on the other)
+    scale = np.abs(theirs.values).max(axis=1, keepdims=True)
+    assert np.all(np.abs(ours.values - theirs.values) <= 2e-5 * scale + 1e-7)
+
+
+@pytest.mark.parametrize("relation, slope", [("x > 0", 1), ("x < 0", -1)])
+def test_a_relation_that_starts_on_its_zero_and_leaves_it(tmp_path, relation, slope):
+    """x = 0 at the start makes `relation` false; it is true from the first instant on, in
+    either direction: y = t."""
+    model = c_model(tmp_path, "Leaves", f"""
+  variable x::Real
+  variable y::Real
+relations
+  initial x = 0
+  initial y = 0
+  der(x) = {slope}
+  der(y) = if {relation} then 1.0 else 0.0""")
+    result = native(model, 2.0, rtol=1e-8, atol=1e-10, points=5)
+    assert result["y"][-1] == pytest.approx(2.0, abs=1e-9)
+    ((event,),) = [result.events]
+    assert event["event"] == relation and event["time"] < 1e-12
+    assert event["direction"] == ("rising" if slope > 0 else "falling")
+
+
+def test_a_relation_true_only_between_two_samples_is_found(tmp_path):
+    """der(w) exceeds 0.5 for 1.7 ms around t = 5.02 in a 10 s run: IDAS's root finding at every
+    step sees both crossings (CasADi's IDAS sampled at 200 checks per call does not: y stays 0)."""
+    model = c_model(tmp_path, "Bump", """
+  parameter center::Real = 5.02
+  parameter width::Real = 0.001
+  variable u::Real
+  variable w::Real
+  variable y::Real
+relations
+  initial u = 0
+  initial w = 0
+  initial y = 0
+  der(u) = 1
+  der(w) = exp(-((u - center) / width)^2)
+  der(y) = if der(w) > 0.5 then 1.0 else 0.0""")
+    result = native(model, 10.0, rtol=1e-8, atol=1e-10, points=11, max_step=5e-4)
+    half = 0.001 * math.sqrt(math.log(2))
+    assert result["y"][-1] == pytest.approx(2 * half, abs=1e-10)
+    assert [(e["direction"], round(e["time"], 9)) for e in result.events] == \
+        [("rising", round(5.02 - half, 9)), ("falling", round(5.02 + half, 9))]
+
+
+def test_a_bound_left_is_found_where_it_is_left():
+    """x = 1 - t with min = 0: left at t = 1 (plus the bound's slack), warned of, run on."""
+    model = compile_model(systems.draining(), codegen="c")
+    with pytest.warns(UserWarning, match="left its declared min"):
+        result = native(model, 2.0, rtol=1e-8, atol=1e-10, points=5)
+    (left,) = result.stats["bounds_left"]
+    assert left["time"] == pytest.approx(1.0, abs=1e-9)
+    assert result["x"][-1] == pytest.approx(-1.0, abs=1e-9)
+
+
+def test_a_model_without_c_code_runs_on_casadi_idas_with_a_warning():
+    model = compile_model(systems.rc_circuit())                   # CasADi's virtual machine
+    with pytest.warns(NativeIdasWarning, match="has no C library"):
+        result = runtime.simulate(model, 0.1, points=3, integrator=make_integrator)
+    assert result.stats["integrator"] == "casadi" and result["C.v"][-1] > 0
