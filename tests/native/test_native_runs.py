@@ -148,3 +148,16 @@ def test_the_command_line_runs_the_native_driver(tmp_path, capsys):
     printed = capsys.readouterr()
     assert "1 event" in printed.err and "warning" not in printed.err
     assert [line.split() for line in printed.out.splitlines()][-1] == ["y", "2"]
+
+
+def test_andrews_squeezer_matches_the_test_set():
+    """The Test Set's Andrews' squeezer at t = 0.03, rtol 1e-10 (tests/hard/test_andrews_squeezer.py
+    on CasADi's IDAS): angles 3.3e-10, rates 5.7e-8 relative measured (CasADi 7.6e-11, 2.9e-8)."""
+    from tests.hard.conftest import compile_hard
+    from tests.reference import andrews
+    result = native(compile_c(compile_hard("AndrewsSqueezerAccelerations").model), andrews.T_END,
+                    points=31, rtol=1e-10, atol=1e-10)
+    angles = np.array([result[name][-1] for name in andrews.ANGLE_NAMES])
+    rates = np.array([result[name][-1] for name in ("bep", "thp", "gap", "php", "dep", "omp", "epp")])
+    assert np.max(np.abs(angles / andrews.REFERENCE_ANGLES - 1)) < 1e-8
+    assert np.max(np.abs(rates / andrews.REFERENCE_RATES - 1)) < 1e-6
