@@ -8,6 +8,7 @@
 #include <dlfcn.h>
 #include <float.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -329,14 +330,17 @@ static int runs_away(Driver *d, const double *limit) {
   return 0;
 }
 
-/* Step IDAS (one-step mode, stop time `reach`) from where it is. The states at the n_out output
- * times it passes go to xs, zs (one time after another), their count to n_done. Returns 0 at
- * `reach`, 1 at a root of watched row `row` (`direction` +1: it rose), 2 where a state is not
- * finite or beyond `limit`, IDA_TOO_MUCH_WORK after max_steps steps without an output time, or
- * IDAS's own negative flag; (t, x, z) is where it stopped. */
-DYAD_EXPORT int dyad_ida_advance(Driver *d, double reach, int n_out, const double *outputs, double *xs,
-                     double *zs, int *n_done, const double *limit, long max_steps, double *t,
-                     double *x, double *z, int *row, int *direction) {
+static volatile sig_atomic_t interrupted = 0;
+
+static void on_interrupt(int signal_number) {
+  (void)signal_number;
+  interrupted = 1;
+}
+
+/* The stepping loop of dyad_ida_advance. */
+static int step_to(Driver *d, double reach, int n_out, const double *outputs, double *xs,
+                   double *zs, int *n_done, const double *limit, long max_steps, double *t,
+                   double *x, double *z, int *row, int *direction) {
   double tret = 0.0;
   long steps = 0;
   int flag, k = 0, i;
@@ -365,12 +369,36 @@ DYAD_EXPORT int dyad_ida_advance(Driver *d, double reach, int n_out, const doubl
       flag = 0;
       continue;
     }
+    if (interrupted) return 3;
     if (++steps >= max_steps) {
       snprintf(d->message, sizeof d->message, "%ld steps taken before the next output time", steps);
       return IDA_TOO_MUCH_WORK;
     }
   }
   IDAGetCurrentTime(d->ida, t);
+  return flag;
+}
+
+/* Step IDAS (one-step mode, stop time `reach`) from where it is. The states at the n_out output
+ * times it passes go to xs, zs (one time after another), their count to n_done. Returns 0 at
+ * `reach`, 1 at a root of watched row `row` (`direction` +1: it rose), 2 where a state is not
+ * finite or beyond `limit`, 3 after a SIGINT (Ctrl-C, looked at after every step while
+ * `watch_interrupt`; the caller raises it), IDA_TOO_MUCH_WORK after max_steps steps without an
+ * output time, or IDAS's own negative flag; (t, x, z) is where it stopped. */
+DYAD_EXPORT int dyad_ida_advance(Driver *d, double reach, int n_out, const double *outputs, double *xs,
+                     double *zs, int *n_done, const double *limit, long max_steps, double *t,
+                     double *x, double *z, int *row, int *direction, int watch_interrupt) {
+  struct sigaction ours, previous;
+  int flag;
+  if (watch_interrupt) {
+    memset(&ours, 0, sizeof ours);
+    ours.sa_handler = on_interrupt;
+    sigemptyset(&ours.sa_mask);
+    interrupted = 0;
+    sigaction(SIGINT, &ours, &previous);
+  }
+  flag = step_to(d, reach, n_out, outputs, xs, zs, n_done, limit, max_steps, t, x, z, row, direction);
+  if (watch_interrupt) sigaction(SIGINT, &previous, NULL);
   return flag;
 }
 

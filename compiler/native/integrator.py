@@ -80,6 +80,8 @@ class NativeIdas:
         if flag == library.ROOT:
             kind, what = self.watch.labels[row]
             return Stop(kind, t, x, z, samples, row, what, direction=direction)
+        if flag == library.INTERRUPTED:
+            raise KeyboardInterrupt          # Ctrl-C, taken by the driver while IDAS stepped
         if flag == library.RUNAWAY:
             check_divergence(self.model, np.array([t]), x.reshape(-1, 1), call.scale)
         return self._failed(call, flag, t)

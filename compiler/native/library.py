@@ -21,7 +21,7 @@ IDA_FLAGS = {-1: "IDA_TOO_MUCH_WORK", -2: "IDA_TOO_MUCH_ACC", -3: "IDA_ERR_FAIL"
              -20: "IDA_MEM_NULL", -21: "IDA_MEM_FAIL", -22: "IDA_ILL_INPUT", -26: "IDA_BAD_T",
              -27: "IDA_BAD_DKY"}
 # what dyad_ida_advance returns besides IDAS's negative flags
-REACHED, ROOT, RUNAWAY = 0, 1, 2
+REACHED, ROOT, RUNAWAY, INTERRUPTED = 0, 1, 2, 3
 COUNTER_NAMES = ("steps", "residual_evaluations", "jacobian_evaluations", "linear_solver_setups",
                  "error_test_failures", "newton_iterations", "newton_convergence_failures")
 
@@ -55,7 +55,7 @@ def _load(path: Path) -> tuple[ctypes.CDLL | None, str]:
         "dyad_ida_restart": (i, [vp, d, _DOUBLES, _DOUBLES, _DOUBLES, _INTS, d]),
         "dyad_ida_advance": (i, [vp, d, i, _DOUBLES, _DOUBLES, _DOUBLES, ctypes.POINTER(i), _DOUBLES,
                                  ctypes.c_long, ctypes.POINTER(d), _DOUBLES, _DOUBLES,
-                                 ctypes.POINTER(i), ctypes.POINTER(i)]),
+                                 ctypes.POINTER(i), ctypes.POINTER(i), i]),
         "dyad_ida_stats": (None, [vp, np.ctypeslib.ndpointer(dtype=np.int_, flags="C_CONTIGUOUS")]),
         "dyad_ida_sundials_version": (ci, []),
     }
@@ -109,14 +109,16 @@ class Driver:
                                          np.ascontiguousarray(active, dtype=np.intc), step0)
 
     def advance(self, reach: float, outputs, limit: np.ndarray, max_steps: int):
-        """(flag, n outputs done, xs, zs, t, x, z, row, direction) of one dyad_ida_advance."""
+        """(flag, n outputs done, xs, zs, t, x, z, row, direction) of one dyad_ida_advance; in the
+        main thread Ctrl-C stops it after the step it is in (INTERRUPTED)."""
         times = np.ascontiguousarray(outputs, dtype=float)
         n = len(times)
         xs, zs = np.empty((n, self.nx)), np.empty((n, self.nz))
         x, z = np.empty(self.nx), np.empty(self.nz)
         flag = self.lib.dyad_ida_advance(self.handle, reach, n, times, xs, zs, ctypes.byref(self._n),
                                          limit, max_steps, ctypes.byref(self._t), x, z,
-                                         ctypes.byref(self._row), ctypes.byref(self._direction))
+                                         ctypes.byref(self._row), ctypes.byref(self._direction),
+                                         int(threading.current_thread() is threading.main_thread()))
         k = self._n.value
         return flag, k, xs[:k].T, zs[:k].T, self._t.value, x, z, self._row.value, self._direction.value
 

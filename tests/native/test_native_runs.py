@@ -161,3 +161,30 @@ def test_andrews_squeezer_matches_the_test_set():
     rates = np.array([result[name][-1] for name in ("bep", "thp", "gap", "php", "dep", "omp", "epp")])
     assert np.max(np.abs(angles / andrews.REFERENCE_ANGLES - 1)) < 1e-8
     assert np.max(np.abs(rates / andrews.REFERENCE_RATES - 1)) < 1e-6
+
+
+def test_ctrl_c_stops_a_long_native_call(tmp_path):
+    """A call to the stop runs in C: SIGINT (Ctrl-C) is looked at after every IDAS step and ends
+    the run as an interrupt, as on CasADi's IDAS (tests/cli/test_interrupt.py), not at the stop."""
+    import os
+    import signal
+    import threading
+    import time
+    model = c_model(tmp_path, "Forced", """
+  variable x::Real
+  variable y::Real
+relations
+  initial x = 1
+  initial y = 0
+  der(x) = y
+  der(y) = -x + sin(1000 * time)""")
+    timer = threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT))
+    began = time.perf_counter()
+    timer.start()
+    try:
+        with pytest.raises(runtime.SimulationInterrupted, match="interrupted"):
+            runtime.simulate(model, 1000.0, rtol=1e-10, atol=1e-12, points=1001,
+                             integrator=make_integrator)
+    finally:
+        timer.cancel()
+    assert time.perf_counter() - began < 10.0
