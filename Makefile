@@ -17,7 +17,7 @@ $(STAMP): pyproject.toml setup.py
 
 # The native IDAS driver (compiler/native/build.py: SUNDIALS from a pinned source package, gcc).
 # Where it cannot be built (no compiler, no network) it says why and runs use CasADi's IDAS.
-$(NATIVE_IDAS): $(STAMP) compiler/native/dyad_idas.c compiler/native/build.py
+$(NATIVE_IDAS): $(STAMP) $(wildcard compiler/native/dyad_idas*) compiler/native/build.py
 	$(BIN)/python -m compiler.native.build || true
 
 run: install

@@ -3,7 +3,8 @@
 (AMICI's sdist carries SUNDIALS 7.1.1, BSD-3, under ThirdParty/sundials), checked against its
 sha256, only the C files IDAS needs (IDAS, the serial vector, the dense matrix and solver, the
 Newton solver, the core) compiled with the C compiler directly, with a configuration header of
-ours instead of cmake's, and linked with our driver (dyad_idas.c) into one shared library.
+ours instead of cmake's, and linked with our driver (dyad_idas.c, dyad_idas_model.c) into one
+shared library.
 Without a compiler or the archive the build says why and the runs stay on CasADi's IDAS.
 """
 from __future__ import annotations
@@ -33,7 +34,7 @@ SOURCE_FOLDERS = ("src/sundials", "src/idas", "src/nvector/serial", "src/sunmatr
 LEFT_OUT = {"sundials_profiler.c",     # built without profiling
             "idas_bbdpre.c"}           # the parallel band-block preconditioner
 FLAGS = ["-O2", "-fPIC", "-fvisibility=hidden"]
-DRIVER_SOURCE = Path(__file__).with_name("dyad_idas.c")
+DRIVER_SOURCES = [Path(__file__).with_name(name) for name in ("dyad_idas.c", "dyad_idas_model.c")]
 DOWNLOAD_TIMEOUT = 120
 
 
@@ -111,9 +112,9 @@ def write_config(folder: Path) -> Path:
 def compile_library(compiler: str, root: Path, config: Path, folder: Path, target: Path) -> Path:
     """Every source into an object file (two at a time), linked with the driver into `target`."""
     sources = [s for f in SOURCE_FOLDERS for s in sorted((root / f).glob("*.c")) if s.name not in LEFT_OUT]
-    sources.append(DRIVER_SOURCE)
-    includes = [f"-I{config}", f"-I{root / 'include'}", f"-I{root / 'src' / 'sundials'}",
-                f"-I{root / 'src' / 'idas'}"]
+    sources += DRIVER_SOURCES
+    includes = [f"-I{config}", f"-I{DRIVER_SOURCES[0].parent}", f"-I{root / 'include'}",
+                f"-I{root / 'src' / 'sundials'}", f"-I{root / 'src' / 'idas'}"]
 
     def compile_one(index_source):
         index, source = index_source

@@ -1,196 +1,10 @@
 /* dyadc's native IDAS driver: SUNDIALS IDAS on a model's CasADi-generated C functions, called
- * from Python through ctypes (compiler/native/library.py). The residual F(t, y, y') = [x' - ode;
- * alg] with y = [x; z], its Jacobian dF/dy + cj dF/dy' and the watched zero functions are all
- * evaluated here, from the model's shared library (dyad_dae, jac_dyad_dae, dyad_watch: CasADi's
- * public calling convention), so a run makes no Python call per evaluation. One call of
+ * from Python through ctypes (compiler/native/library.py). The residual, its Jacobian and the
+ * watched zero functions are evaluated in C (dyad_idas_model.c), from the model's shared library,
+ * so a run makes no Python call per evaluation. One call of
  * dyad_ida_advance steps IDAS in one-step mode to a stop time, writes the output times it passes
  * by dense output, and stops early at a root of a watched row or where a state runs away. */
-#include <dlfcn.h>
-#include <float.h>
-#include <math.h>
-#include <signal.h>
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
-
-#include <idas/idas.h>
-#include <nvector/nvector_serial.h>
-#include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_dense.h>
-#include <sunmatrix/sunmatrix_dense.h>
-
-#define DYAD_EXPORT __attribute__((visibility("default")))
-
-typedef long long int cs_int;
-typedef int (*cs_eval)(const double **arg, double **res, cs_int *iw, double *w, int mem);
-typedef int (*cs_work)(cs_int *sz_arg, cs_int *sz_res, cs_int *sz_iw, cs_int *sz_w);
-typedef const cs_int *(*cs_sparsity)(cs_int i);
-typedef int (*cs_checkout)(void);
-typedef void (*cs_release)(int mem);
-
-/* One CasADi-generated function with its own work arrays. */
-typedef struct {
-  cs_eval eval;
-  cs_sparsity sparsity_out;
-  cs_release release;
-  const double **arg;
-  double **res;
-  cs_int *iw;
-  double *w;
-  int mem;
-  int n_res;
-} Function;
-
-typedef struct {
-  void *library;
-  Function dae, jac, watch;
-  int nx, nz, np, nrows;
-  double t_model;          /* the time the functions were last asked at (for messages) */
-  double *p, *ode, *alg;
-  double watch_atol;
-  int *active;             /* watched rows looked at (1) or ignored (0: a constant 1.0) */
-  int *zero_side;          /* the sign a row's exact zero is taken as (its relation's value there) */
-  int *found;
-  double *jac_values[20];  /* the Jacobian blocks d(ode, alg)/d(x, z), by output of jac_dyad_dae */
-  SUNContext ctx;
-  void *ida;
-  N_Vector y, yp, scratch;
-  SUNMatrix J;
-  SUNLinearSolver LS;
-  char message[1024];
-} Driver;
-
-static int load_function(Driver *d, Function *f, const char *name) {
-  char symbol[128];
-  cs_work work;
-  cs_checkout checkout;
-  cs_int sz_arg = 0, sz_res = 0, sz_iw = 0, sz_w = 0;
-  f->eval = (cs_eval)dlsym(d->library, name);
-  snprintf(symbol, sizeof symbol, "%s_work", name);
-  work = (cs_work)dlsym(d->library, symbol);
-  snprintf(symbol, sizeof symbol, "%s_sparsity_out", name);
-  f->sparsity_out = (cs_sparsity)dlsym(d->library, symbol);
-  snprintf(symbol, sizeof symbol, "%s_checkout", name);
-  checkout = (cs_checkout)dlsym(d->library, symbol);
-  snprintf(symbol, sizeof symbol, "%s_release", name);
-  f->release = (cs_release)dlsym(d->library, symbol);
-  if (!f->eval || !work || !f->sparsity_out) {
-    snprintf(d->message, sizeof d->message, "the model's library has no function %s", name);
-    return -1;
-  }
-  work(&sz_arg, &sz_res, &sz_iw, &sz_w);
-  f->arg = calloc(sz_arg + 1, sizeof(double *));
-  f->res = calloc(sz_res + 1, sizeof(double *));
-  f->iw = calloc(sz_iw + 1, sizeof(cs_int));
-  f->w = calloc(sz_w + 1, sizeof(double));
-  f->n_res = (int)sz_res;
-  f->mem = checkout ? checkout() : 0;
-  return 0;
-}
-
-static void free_function(Function *f) {
-  if (f->release && f->eval) f->release(f->mem);
-  free(f->arg); free(f->res); free(f->iw); free(f->w);
-}
-
-/* ode and alg at (t, x, z) with the call's parameters; nonzero where a value is not finite */
-static int eval_dae(Driver *d, double t, const double *x, const double *z) {
-  int i;
-  d->t_model = t;
-  d->dae.arg[0] = &t; d->dae.arg[1] = x; d->dae.arg[2] = z; d->dae.arg[3] = d->p;
-  d->dae.arg[4] = NULL;
-  memset(d->dae.res, 0, d->dae.n_res * sizeof(double *));
-  d->dae.res[0] = d->ode; d->dae.res[1] = d->alg;
-  if (d->dae.eval(d->dae.arg, d->dae.res, d->dae.iw, d->dae.w, d->dae.mem)) return 1;
-  for (i = 0; i < d->nx; i++) if (!isfinite(d->ode[i])) return 1;
-  for (i = 0; i < d->nz; i++) if (!isfinite(d->alg[i])) return 1;
-  return 0;
-}
-
-static int residual(sunrealtype t, N_Vector y, N_Vector yp, N_Vector rr, void *data) {
-  Driver *d = data;
-  const double *yv = N_VGetArrayPointer(y), *ypv = N_VGetArrayPointer(yp);
-  double *r = N_VGetArrayPointer(rr);
-  int i;
-  if (eval_dae(d, t, yv, yv + d->nx)) return 1;     /* recoverable: IDAS cuts the step */
-  for (i = 0; i < d->nx; i++) r[i] = ypv[i] - d->ode[i];
-  for (i = 0; i < d->nz; i++) r[d->nx + i] = d->alg[i];
-  return 0;
-}
-
-/* add `sign` times the sparse block of output `k` at (row0, col0) of the dense matrix J */
-static void scatter(Driver *d, SUNMatrix J, int k, double sign, int row0, int col0) {
-  const cs_int *sp = d->jac.sparsity_out(k);
-  const double *v = d->jac.res[k];
-  cs_int nrow = sp[0], ncol = sp[1], c, e;
-  if (nrow == 0 || ncol == 0) return;
-  if (sp[2] == 1) {                                    /* CasADi's compact dense form */
-    for (c = 0; c < ncol; c++)
-      for (e = 0; e < nrow; e++)
-        SM_ELEMENT_D(J, row0 + e, col0 + c) += sign * v[c * nrow + e];
-    return;
-  }
-  for (c = 0; c < ncol; c++)
-    for (e = sp[2 + c]; e < sp[3 + c]; e++)
-      SM_ELEMENT_D(J, row0 + sp[3 + ncol + e], col0 + c) += sign * v[e];
-}
-
-/* outputs j * 5 + i of jac_dyad_dae (ccodegen.state_jacobian): d(ode, alg)/d(x, z) are j in
- * {0, 1}, i in {1, 2}; the others are structurally zero and not computed */
-static int is_state_block(int k) { return k / 5 <= 1 && (k % 5 == 1 || k % 5 == 2); }
-
-static int jacobian(sunrealtype t, sunrealtype cj, N_Vector y, N_Vector yp, N_Vector rr,
-                    SUNMatrix J, void *data, N_Vector t1, N_Vector t2, N_Vector t3) {
-  Driver *d = data;
-  const double *yv = N_VGetArrayPointer(y);
-  int i, k;
-  (void)yp; (void)rr; (void)t1; (void)t2; (void)t3;
-  memset(d->jac.arg, 0, 9 * sizeof(double *));
-  d->jac.arg[0] = &t; d->jac.arg[1] = yv; d->jac.arg[2] = yv + d->nx; d->jac.arg[3] = d->p;
-  memset(d->jac.res, 0, d->jac.n_res * sizeof(double *));
-  for (k = 0; k < 20; k++) d->jac.res[k] = d->jac_values[k];
-  if (d->jac.eval(d->jac.arg, d->jac.res, d->jac.iw, d->jac.w, d->jac.mem)) return 1;
-  SUNMatZero(J);
-  scatter(d, J, 1, -1.0, 0, 0);
-  scatter(d, J, 2, -1.0, 0, d->nx);
-  scatter(d, J, 6, 1.0, d->nx, 0);
-  scatter(d, J, 7, 1.0, d->nx, d->nx);
-  for (i = 0; i < d->nx; i++) SM_ELEMENT_D(J, i, i) += cj;
-  return 0;
-}
-
-static int allocate_jacobian(Driver *d) {
-  int k;
-  for (k = 0; k < 20; k++) {
-    const cs_int *sp;
-    if (!is_state_block(k)) continue;
-    sp = d->jac.sparsity_out(k);
-    if (!sp) return -1;
-    d->jac_values[k] = calloc((sp[2] == 1 || sp[1] == 0 ? sp[0] * sp[1] : sp[2 + sp[1]]) + 1,
-                              sizeof(double));
-  }
-  return 0;
-}
-
-/* the watched rows; an exact zero is taken as the side whose relation value it shares (`x > 0`
- * is false at zero: below; `x < 0` false: above), so that a row that starts at zero and leaves
- * it to where its relation changes is a sign change */
-static int roots(sunrealtype t, N_Vector y, N_Vector yp, sunrealtype *g, void *data) {
-  Driver *d = data;
-  const double *yv = N_VGetArrayPointer(y);
-  int i;
-  (void)yp;
-  d->watch.arg[0] = yv; d->watch.arg[1] = yv + d->nx; d->watch.arg[2] = d->p;
-  d->watch.arg[3] = &t; d->watch.arg[4] = &d->watch_atol;
-  memset(d->watch.res, 0, d->watch.n_res * sizeof(double *));
-  d->watch.res[0] = g;
-  if (d->watch.eval(d->watch.arg, d->watch.res, d->watch.iw, d->watch.w, d->watch.mem)) return -1;
-  for (i = 0; i < d->nrows; i++) {
-    if (!d->active[i]) g[i] = 1.0;
-    else if (g[i] == 0.0) g[i] = d->zero_side[i] * DBL_MIN;
-  }
-  return 0;
-}
+#include "dyad_idas.h"
 
 static void keep_message(int line, const char *func, const char *file, const char *msg,
                          SUNErrCode code, void *data, SUNContext ctx) {
@@ -210,7 +24,7 @@ DYAD_EXPORT void dyad_ida_free(Driver *d) {
   if (d->yp) N_VDestroy(d->yp);
   if (d->scratch) N_VDestroy(d->scratch);
   if (d->ctx) SUNContext_Free(&d->ctx);
-  free_function(&d->dae); free_function(&d->jac); free_function(&d->watch);
+  dyad_free_function(&d->dae); dyad_free_function(&d->jac); dyad_free_function(&d->watch);
   free(d->p); free(d->ode); free(d->alg); free(d->active); free(d->found); free(d->zero_side);
   for (int k = 0; k < 20; k++) free(d->jac_values[k]);
   if (d->library) dlclose(d->library);
@@ -228,8 +42,8 @@ DYAD_EXPORT Driver *dyad_ida_new(const char *path, int nx, int nz, int np, int n
     free(d);
     return NULL;
   }
-  ok = load_function(d, &d->dae, "dyad_dae") == 0 && load_function(d, &d->jac, "jac_dyad_dae") == 0
-       && (nrows == 0 || load_function(d, &d->watch, "dyad_watch") == 0) && allocate_jacobian(d) == 0;
+  ok = dyad_load_function(d, &d->dae, "dyad_dae") == 0 && dyad_load_function(d, &d->jac, "jac_dyad_dae") == 0
+       && (nrows == 0 || dyad_load_function(d, &d->watch, "dyad_watch") == 0) && dyad_allocate_jacobian(d) == 0;
   d->p = calloc(np + 1, sizeof(double));
   d->ode = calloc(nx + 1, sizeof(double));
   d->alg = calloc(nz + 1, sizeof(double));
@@ -270,7 +84,7 @@ DYAD_EXPORT int dyad_ida_setup(Driver *d, double rtol, const double *atol, int s
   N_VConst(0.0, d->yp);
   d->watch_atol = watch_atol;
   d->ida = IDACreate(d->ctx);
-  flag = d->ida ? IDAInit(d->ida, residual, 0.0, d->y, d->yp) : IDA_MEM_FAIL;
+  flag = d->ida ? IDAInit(d->ida, dyad_residual, 0.0, d->y, d->yp) : IDA_MEM_FAIL;
   if (!flag) flag = IDASVtolerances(d->ida, rtol, tolerances);
   if (!flag) flag = IDASetUserData(d->ida, d);
   if (!flag) flag = IDASetId(d->ida, id);
@@ -282,9 +96,9 @@ DYAD_EXPORT int dyad_ida_setup(Driver *d, double rtol, const double *atol, int s
     d->LS = SUNLinSol_Dense(d->y, d->J, d->ctx);
     flag = d->J && d->LS ? IDASetLinearSolver(d->ida, d->LS, d->J) : IDA_MEM_FAIL;
   }
-  if (!flag) flag = IDASetJacFn(d->ida, jacobian);
+  if (!flag) flag = IDASetJacFn(d->ida, dyad_jacobian);
   if (!flag && d->nrows > 0) {
-    flag = IDARootInit(d->ida, d->nrows, roots);
+    flag = IDARootInit(d->ida, d->nrows, dyad_roots);
     if (!flag) flag = IDASetRootDirection(d->ida, (int *)directions);
     if (!flag) flag = IDASetNoInactiveRootWarn(d->ida);
   }
@@ -305,7 +119,7 @@ DYAD_EXPORT int dyad_ida_restart(Driver *d, double t0, const double *x0, const d
   for (i = 0; i < d->nrows; i++) d->active[i] = active[i];
   memcpy(y, x0, d->nx * sizeof(double));
   memcpy(y + d->nx, z0, d->nz * sizeof(double));
-  if (eval_dae(d, t0, y, y + d->nx)) {
+  if (dyad_eval_dae(d, t0, y, y + d->nx)) {
     snprintf(d->message, sizeof d->message, "the equations have no finite value at the start");
     return IDA_FIRST_RES_FAIL;
   }
