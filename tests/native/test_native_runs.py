@@ -188,3 +188,19 @@ relations
     finally:
         timer.cancel()
     assert time.perf_counter() - began < 10.0
+
+
+def test_without_the_driver_library_runs_use_casadi_idas_and_say_why(monkeypatch):
+    monkeypatch.setattr(library, "driver_library", lambda: (None, "the native IDAS driver is not built"))
+    model = compile_model(systems.rc_circuit(), codegen="c")
+    with pytest.warns(NativeIdasWarning, match="the native IDAS driver is not built"):
+        result = runtime.simulate(model, 0.1, points=3, integrator=make_integrator)
+    assert result.stats["integrator"] == "casadi"
+
+
+def test_an_archive_with_another_checksum_is_refused(tmp_path):
+    from compiler.native import build
+    fake = tmp_path / "amici-1.1.0.tar.gz"
+    fake.write_bytes(b"not the sdist")
+    with pytest.raises(RuntimeError, match=f"expected {build.ARCHIVE_SHA256}"):
+        build.fetch_archive(tmp_path, fake)
