@@ -3,7 +3,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
-NATIVE_IDAS := compiler/native/built/libdyadidas.so
+NATIVE_IDAS := $(VENV)/lib/dyadc/libdyadidas.so
 
 .PHONY: install run test fuzz bench generate clean compat
 

@@ -4,13 +4,16 @@ out. Nothing here knows the run loop; integrator.py does."""
 from __future__ import annotations
 
 import ctypes
+import sys
 import threading
 from pathlib import Path
 
 import numpy as np
 
-LIBRARY_PATH = Path(__file__).resolve().parent / "built" / "libdyadidas.so"
-BUILD_COMMAND = "make install"          # what builds it (Makefile: python -m compiler.native.build)
+# in the Python environment (the project's .venv after `make install`), outside the package: it is
+# built for this machine, never shipped in a wheel; a wheel user builds it with the command below
+LIBRARY_PATH = Path(sys.prefix) / "lib" / "dyadc" / "libdyadidas.so"
+BUILD_COMMAND = "python -m compiler.native.build"   # (make install runs it)
 
 # IDAS's return flags (idas.h) by value, as IDAS names them
 IDA_FLAGS = {-1: "IDA_TOO_MUCH_WORK", -2: "IDA_TOO_MUCH_ACC", -3: "IDA_ERR_FAIL", -4: "IDA_CONV_FAIL",
@@ -41,7 +44,8 @@ def driver_library() -> tuple[ctypes.CDLL | None, str]:
 
 def _load(path: Path) -> tuple[ctypes.CDLL | None, str]:
     if not path.exists():
-        return None, f"the native IDAS driver is not built ({path} is missing; `{BUILD_COMMAND}` builds it)"
+        return None, (f"the native IDAS driver is not built ({path} is missing; `make install` or "
+                      f"`{BUILD_COMMAND}` builds it)")
     try:
         lib = ctypes.CDLL(str(path))
     except OSError as err:
