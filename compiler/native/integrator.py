@@ -12,7 +12,7 @@ import numpy as np
 from compiler.runtime.checks import RUNAWAY_LIMIT, check_divergence
 from compiler.runtime.crossings import root_directions
 from compiler.runtime.errors import SimulationFailed
-from compiler.runtime.idas import IDAS_REASONS
+from compiler.runtime.idas import idas_reason
 from compiler.runtime.integrator import FAILED, REACHED, Call, Stop, Tally
 from compiler.runtime.model import CompiledModel
 from compiler.runtime.watches import Watch
@@ -102,11 +102,9 @@ class NativeIdas:
 
     def _failed(self, call: Call, flag: int, t: float) -> Stop:
         self.at = None
-        name = _flag_name(flag)
-        reason = f"{name}: {IDAS_REASONS.get(name, 'see the IDAS documentation')}"
-        said = self.driver.message()
-        if said:
-            reason += f" (IDAS: {said})"
+        # IDAS's message without the name of the function that wrote it, explained as on CasADi's
+        said = self.driver.message().split(": ", 1)[-1]
+        reason = idas_reason(f'returned "{_flag_name(flag)}"', said)
         failure = SimulationFailed(f"simulation of {self.model.name} failed at t = {t:.10g}: {reason}",
                                    float(t), reason)
         return Stop(FAILED, call.t0, call.x0, call.z0, failure=failure)

@@ -204,3 +204,15 @@ def test_an_archive_with_another_checksum_is_refused(tmp_path):
     fake.write_bytes(b"not the sdist")
     with pytest.raises(RuntimeError, match=f"expected {build.ARCHIVE_SHA256}"):
         build.fetch_archive(tmp_path, fake)
+
+
+def test_a_failure_is_reported_as_on_casadi_idas():
+    """0 = z^2 + t - 1 has no solution past t = 1: the same flag, explanation and time."""
+    model = compile_model(systems.vanishing_root(), codegen="c")
+    messages = []
+    for integrator in (None, make_integrator):
+        with pytest.raises(runtime.SimulationFailed) as failed:
+            runtime.simulate(model, 2.0, integrator=integrator)
+        messages.append(str(failed.value))
+    assert messages[0] == messages[1]
+    assert "failed at t = 1: IDA_CONV_FAIL" in messages[1]
