@@ -63,7 +63,8 @@ def export_fmu(model_spec: str, output: str | Path, *, lib_dirs: Sequence[str] =
     try:
         layout = fmu_layout(model, inputs, outputs, dict(params or {}))
     except ModelInputError as err:
-        raise DyadError(f"-p: {err}", hint=f"its parameters: dyadc inspect {model_spec}") from None
+        raise DyadError(f"-p: {err}", hint=f"its parameters: dyadc flatten {model_spec}"
+                                 + "".join(f" -L {folder}" for folder in lib_dirs)) from None
     identifier = re.sub(r"\W", "_", model.name.rsplit(".", 1)[-1]) or "model"
     guid = "{" + str(uuid.uuid4()) + "}"
     descriptions = {v.name: v.description for v in flat.variables if v.description}
