@@ -179,7 +179,7 @@ static int initialize(DyInstance *c) {
     memcpy(c->x, DY_X_GUESS, DY_NX * sizeof(double));
     memcpy(c->z, DY_Z_GUESS, DY_NZ * sizeof(double));
     if (dy_solve_initial(c, DY_INIT, DY_NINIT)) return -1;
-    c->values_fresh = 1;
+    c->values_fresh = 0;           /* z polished by Newton to round-off from the initial point */
     return settle_relations(c);
 }
 

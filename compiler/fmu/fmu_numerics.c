@@ -54,9 +54,20 @@ static double max_abs(int n, const double *v) {
     return m;
 }
 
+/* Converged: every step component below NEWTON_TOL relative to its own unknown, or (round-off
+   in unknowns of mixed scales) the whole step below NEWTON_TOL relative to the largest unknown
+   and no longer shrinking quadratically. */
+static int newton_converged(int nz, const double *step, const double *z, double previous) {
+    int i;
+    double largest = max_abs(nz, step);
+    for (i = 0; i < nz; i++) if (fabs(step[i]) > NEWTON_TOL * (1.0 + fabs(z[i]))) break;
+    if (i == nz) return 1;
+    return largest <= NEWTON_TOL * (1.0 + max_abs(nz, z)) && largest >= 0.25 * previous;
+}
+
 int dy_solve_algebraic(DyInstance *c, dy_eval newton) {
     int nz = c->nz, it, i;
-    double t = c->t;
+    double t = c->t, previous = INFINITY;
     if (nz == 0) return 0;
     for (it = 0; it < NEWTON_ITERATIONS; it++) {
         const double *in[4] = {c->x, c->z, c->p, &t};
@@ -65,7 +76,8 @@ int dy_solve_algebraic(DyInstance *c, dy_eval newton) {
         for (i = 0; i < nz; i++) if (!isfinite(c->residual[i])) return -1;
         if (dy_lu_solve(nz, c->jacobian, c->residual, c->pivots)) return -1;
         for (i = 0; i < nz; i++) c->z[i] -= c->residual[i];
-        if (max_abs(nz, c->residual) <= NEWTON_TOL * (1.0 + max_abs(nz, c->z))) return 0;
+        if (newton_converged(nz, c->residual, c->z, previous)) return 0;
+        previous = max_abs(nz, c->residual);
     }
     return -1;
 }
