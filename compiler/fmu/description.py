@@ -18,6 +18,9 @@ from compiler.units.quantity import DIMENSIONS
 from compiler.units.system import is_offset_unit, parse_unit
 
 
+DEFAULT_TOLERANCE = 1e-6     # the C runtime's DY_DEFAULT_TOLERANCE: the Co-Simulation integrator's
+
+
 @dataclass(frozen=True)
 class ModelInfo:
     """What the description says besides the compiled model: its identifier, GUID, doc strings
@@ -29,6 +32,7 @@ class ModelInfo:
     units: Mapping[str, str]
     tool: str
     stop_time: float | None = None
+    kind: str = "me"             # "me": Model Exchange, "cs": Co-Simulation
 
 
 def _variable(parent, name: str, reference: int, info: ModelInfo, unit: str | None = None, *,
@@ -70,17 +74,19 @@ def model_description(model: CompiledModel, layout: FmuLayout, info: ModelInfo) 
         "generationTool": info.tool, "variableNamingConvention": "flat",
         "generationDateAndTime": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
         "numberOfEventIndicators": str(layout.event_count)})
-    me = ET.SubElement(root, "ModelExchange", {
-        "modelIdentifier": info.identifier, "canGetAndSetFMUstate": "true",
-        "providesDirectionalDerivative": "true", "canNotUseMemoryManagementFunctions": "true"})
-    sources = ET.SubElement(me, "SourceFiles")
+    capabilities = {"modelIdentifier": info.identifier, "canGetAndSetFMUstate": "true",
+                    "providesDirectionalDerivative": "true", "canNotUseMemoryManagementFunctions": "true"}
+    if info.kind == "cs":
+        capabilities["canHandleVariableCommunicationStepSize"] = "true"
+    interface = ET.SubElement(root, "CoSimulation" if info.kind == "cs" else "ModelExchange", capabilities)
+    sources = ET.SubElement(interface, "SourceFiles")
     from compiler.fmu.sources import COMPILED_FILES
     for name in COMPILED_FILES:
         ET.SubElement(sources, "File", {"name": name})
     variables = ET.Element("ModelVariables")
     index, used_units = _add_variables(variables, model, layout, info)
     _unit_definitions(root, used_units)
-    experiment = {"startTime": "0.0"}
+    experiment = {"startTime": "0.0", "tolerance": repr(DEFAULT_TOLERANCE)}
     if info.stop_time is not None:
         experiment["stopTime"] = repr(float(info.stop_time))
     ET.SubElement(root, "DefaultExperiment", experiment)

@@ -23,21 +23,20 @@ from compiler.fmu.sources import CSources, fmu_sources
 from compiler.runtime import ModelInputError
 
 FMI_VERSIONS = (2,)
-KINDS = ("me",)
+KINDS = ("me", "cs")
 PLATFORM = "linux64"
 FLAGS = ["-O1", "-fPIC", "-shared", "-fvisibility=hidden"]
 COMPILE_TIMEOUT = 600
 
 
 def check_request(fmi: int, kind: str) -> None:
-    """Refuse what is not built yet: FMI 3.0, Co-Simulation."""
+    """Refuse what is not built: FMI 3.0, kinds other than me and cs."""
     if fmi not in FMI_VERSIONS:
         raise DyadError(f"--fmi {fmi}: dyadc exports FMI 2.0 only (FMI 3.0 is not built yet)",
                         hint="leave out --fmi, or give --fmi 2")
     if kind not in KINDS:
-        raise DyadError(f"--kind {kind}: dyadc exports Model Exchange FMUs only (Co-Simulation is "
-                        f"not built yet)", hint="leave out --kind, or give --kind me; an importer "
-                                                "integrates a Model Exchange FMU with its own solver")
+        raise DyadError(f"--kind {kind}: an FMU is `me` (Model Exchange: the importer integrates) or "
+                        f"`cs` (Co-Simulation: the FMU integrates itself)", hint="give --kind me or --kind cs")
 
 
 def export_fmu(model_spec: str, output: str | Path, *, lib_dirs: Sequence[str] = (),
@@ -70,7 +69,7 @@ def export_fmu(model_spec: str, output: str | Path, *, lib_dirs: Sequence[str] =
     descriptions = {v.name: v.description for v in flat.variables if v.description}
     descriptions.update({p.name: p.description for p in flat.parameters if p.description})
     info = ModelInfo(identifier, guid, f"{model.name}, compiled by dyadc", descriptions,
-                     model.metadata.get("units", {}), _tool(), stop_time)
+                     model.metadata.get("units", {}), _tool(), stop_time, kind)
     sources = fmu_sources(model, layout, guid)
     _write_fmu(output, identifier, model_description(model, layout, info), sources)
     return output

@@ -22,6 +22,7 @@
 #define VR_OUTPUT (2 * DY_NX)
 #define VR_PARAMETER (2 * DY_NX + DY_NY)
 #define VR_END (2 * DY_NX + DY_NY + DY_NP)
+#define DY_DEFAULT_TOLERANCE 1e-6
 
 static double *vec(int n) { return calloc((size_t)(n > 0 ? n : 1), sizeof(double)); }
 
@@ -187,8 +188,10 @@ static int initialize(DyInstance *c) {
 static void free_instance(DyInstance *c) {
     if (!c) return;
     free(c->name); free(c->x); free(c->z); free(c->p_user); free(c->mask); free(c->p);
-    free(c->residual); free(c->jacobian); free(c->step); free(c->scratch); free(c->pivots);
-    free(c->iw); free(c->w); free((void *)c->arg); free(c->res); free(c);
+    free(c->residual); free(c->jacobian); free(c->work); free(c->scratch); free(c->pivots);
+    free(c->iw); free(c->w); free((void *)c->arg); free(c->res);
+    dy_free_integrator(c->integrator);
+    free(c);
 }
 
 static int allocate_work(DyInstance *c) {
@@ -204,12 +207,12 @@ static int allocate_work(DyInstance *c) {
     c->w = calloc((size_t)most[3], sizeof(double));
     c->residual = vec(DY_NZ);
     c->jacobian = vec(DY_NZ * DY_NZ);
-    c->step = vec(n);
+    c->work = vec(n);
     c->scratch = vec(rows * n + rows + n);
     c->pivots = calloc((size_t)(DY_NZ + DY_NX + 1), sizeof(int));
     c->x = vec(DY_NX); c->z = vec(DY_NZ); c->p = vec(DY_NP);
     c->p_user = vec(DY_NP); c->mask = vec(DY_NP);
-    return (c->arg && c->res && c->iw && c->w && c->residual && c->jacobian && c->step && c->scratch
+    return (c->arg && c->res && c->iw && c->w && c->residual && c->jacobian && c->work && c->scratch
             && c->pivots && c->x && c->z && c->p && c->p_user && c->mask) ? 0 : -1;
 }
 
@@ -237,10 +240,8 @@ DYFMI_EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2S
     c->name = strdup(name ? name : "dyadc");
     c->logging = logging;
     c->nx = DY_NX; c->nz = DY_NZ; c->np = DY_NP;
-    if (type != fmi2ModelExchange) {
-        dy_log(c, fmi2Error, "logStatusError", "this FMU supports Model Exchange only");
-        free_instance(c); return NULL;
-    }
+    c->cosimulation = type == fmi2CoSimulation;
+    c->tolerance = DY_DEFAULT_TOLERANCE;
     if (!guid || strcmp(guid, DY_GUID) != 0) {
         dy_log(c, fmi2Error, "logStatusError", "the GUID does not match this FMU's modelDescription.xml");
         free_instance(c); return NULL;
@@ -260,8 +261,10 @@ DYFMI_EXPORT fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean on, siz
 
 DYFMI_EXPORT fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tolerance_defined, fmi2Real tolerance,
                                             fmi2Real start, fmi2Boolean stop_defined, fmi2Real stop) {
-    (void)tolerance_defined; (void)tolerance; (void)stop_defined; (void)stop;
-    ((DyInstance *)c)->t = start;
+    DyInstance *instance = (DyInstance *)c;
+    (void)stop_defined; (void)stop;
+    instance->t = start;
+    if (tolerance_defined && tolerance > 0) instance->tolerance = tolerance;
     return fmi2OK;
 }
 
@@ -282,3 +285,4 @@ DYFMI_EXPORT fmi2Status fmi2Terminate(fmi2Component c) { ((DyInstance *)c)->mode
 DYFMI_EXPORT fmi2Status fmi2Reset(fmi2Component c) { reset_values((DyInstance *)c); return fmi2OK; }
 
 #include "fmi2_values.inc"
+#include "fmi2_cosimulation.inc"

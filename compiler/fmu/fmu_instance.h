@@ -21,7 +21,7 @@ typedef struct {
     double t;
     int nx, nz, np;
     double *x, *z, *p_user, *mask, *p;
-    double *residual, *jacobian, *step, *scratch;   /* linear algebra work */
+    double *residual, *jacobian, *work, *scratch;   /* linear algebra work */
     int *pivots;
     dy_int *iw;
     double *w;
@@ -31,7 +31,14 @@ typedef struct {
     int parameters_fresh;    /* p derived from p_user and mask */
     int next_event_defined;
     double next_event;
+    int cosimulation;        /* instantiated for Co-Simulation: fmi2DoStep integrates (fmi2_cosimulation.inc) */
+    double tolerance;        /* the integrator's relative (and absolute) tolerance */
+    double step;             /* its last step size */
+    void *integrator;        /* its work space, made on the first step */
 } DyInstance;
+
+/* Frees an instance's integrator work space (fmi2_cosimulation.inc). */
+void dy_free_integrator(void *integrator);
 
 /* Evaluate a generated function: arguments and results in order; returns 0 on success. */
 int dy_call(DyInstance *c, dy_eval f, int n_in, const double **in, int n_out, double **out);
@@ -39,6 +46,10 @@ int dy_call(DyInstance *c, dy_eval f, int n_in, const double **in, int n_out, do
 /* Solve A s = b in place (A column-major n x n, overwritten by its LU factors; b by s).
    Returns 0, or -1 when A is singular. */
 int dy_lu_solve(int n, double *a, double *b, int *pivots);
+
+/* The LU factors of A in place (row swaps in `pivots`), and a solve with them. */
+int dy_lu_factor(int n, double *a, int *pivots);
+void dy_lu_apply(int n, const double *lu, const int *pivots, double *b);
 
 /* z with alg(x, z, p, t) = 0 by Newton with the exact Jacobian from the current z. `newton`
    evaluates (alg, dense d alg / d z). Returns 0, or -1 when it did not converge. */

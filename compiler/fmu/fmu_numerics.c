@@ -19,7 +19,7 @@ int dy_call(DyInstance *c, dy_eval f, int n_in, const double **in, int n_out, do
     return f(c->arg, c->res, c->iw, c->w, 0);
 }
 
-int dy_lu_solve(int n, double *a, double *b, int *pivots) {
+int dy_lu_factor(int n, double *a, int *pivots) {
     int i, j, k;
     for (k = 0; k < n; k++) {
         int best = k;
@@ -28,22 +28,33 @@ int dy_lu_solve(int n, double *a, double *b, int *pivots) {
             if (fabs(a[i + k * n]) > largest) { largest = fabs(a[i + k * n]); best = i; }
         if (!(largest > 0.0) || !isfinite(largest)) return -1;
         pivots[k] = best;
-        if (best != k) {
+        if (best != k)
             for (j = 0; j < n; j++) { double s = a[k + j * n]; a[k + j * n] = a[best + j * n]; a[best + j * n] = s; }
-            { double s = b[k]; b[k] = b[best]; b[best] = s; }
-        }
         for (i = k + 1; i < n; i++) {
             double factor = a[i + k * n] / a[k + k * n];
             a[i + k * n] = factor;
             for (j = k + 1; j < n; j++) a[i + j * n] -= factor * a[k + j * n];
-            b[i] -= factor * b[k];
         }
+    }
+    return 0;
+}
+
+void dy_lu_apply(int n, const double *lu, const int *pivots, double *b) {
+    int i, j, k;
+    for (k = 0; k < n; k++) {
+        if (pivots[k] != k) { double s = b[k]; b[k] = b[pivots[k]]; b[pivots[k]] = s; }
+        for (i = k + 1; i < n; i++) b[i] -= lu[i + k * n] * b[k];
     }
     for (k = n - 1; k >= 0; k--) {
         double s = b[k];
-        for (j = k + 1; j < n; j++) s -= a[k + j * n] * b[j];
-        b[k] = s / a[k + k * n];
+        for (j = k + 1; j < n; j++) s -= lu[k + j * n] * b[j];
+        b[k] = s / lu[k + k * n];
     }
+}
+
+int dy_lu_solve(int n, double *a, double *b, int *pivots) {
+    if (dy_lu_factor(n, a, pivots)) return -1;
+    dy_lu_apply(n, a, pivots, b);
     return 0;
 }
 

@@ -20,7 +20,8 @@ from compiler.linear.elimination import EliminatedSystem
 from compiler.runtime import CompiledModel
 
 FUNCTIONS_NAME = "dyfmu_functions"
-RUNTIME_FILES = ("fmi2_api.h", "fmu_instance.h", "fmu_numerics.c", "fmi2_model_exchange.c", "fmi2_values.inc")
+RUNTIME_FILES = ("fmi2_api.h", "fmu_instance.h", "fmu_numerics.c", "fmi2_model_exchange.c", "fmi2_values.inc",
+                 "fmi2_cosimulation.inc")
 COMPILED_FILES = (FUNCTIONS_NAME + ".c", "fmu_numerics.c", "fmi2_model_exchange.c")
 _OPERATORS = {">": 0, ">=": 1, "<": 2, "<=": 3}
 

@@ -18,11 +18,11 @@ def exported(tmp_path_factory):
     folder = tmp_path_factory.mktemp("fmus")
     made: dict[str, Path] = {}
 
-    def fmu(model: str, **params: float) -> Path:
-        key = model + "".join(f" {k}={v}" for k, v in sorted(params.items()))
+    def fmu(model: str, kind: str = "me", **params: float) -> Path:
+        key = f"{model} {kind}" + "".join(f" {k}={v}" for k, v in sorted(params.items()))
         if key not in made:
             path = folder / f"{model.replace('.', '_')}{len(made)}.fmu"
-            made[key] = api.export_fmu(model, path, lib_dirs=[MODELS], params=params or None)
+            made[key] = api.export_fmu(model, path, lib_dirs=[MODELS], params=params or None, kind=kind)
         return made[key]
     return fmu
 

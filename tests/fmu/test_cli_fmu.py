@@ -26,12 +26,12 @@ def test_writes_binary_sources_and_description(tmp_path, capsys):
     assert start["C"] == "0.002" and description.defaultExperiment.stopTime == "0.5"
 
 
-def test_fmi_3_and_co_simulation_are_refused(tmp_path, capsys):
+def test_fmi_3_and_unknown_kinds_are_refused(tmp_path, capsys):
     path = str(tmp_path / "rc.fmu")
     assert fmu("Fmu.RCCharge", "-o", path, "--fmi", "3") == 1
     assert "error: --fmi 3: dyadc exports FMI 2.0 only (FMI 3.0 is not built yet)" in capsys.readouterr().err
-    assert fmu("Fmu.RCCharge", "-o", path, "--kind", "cs") == 1
-    assert "error: --kind cs: dyadc exports Model Exchange FMUs only" in capsys.readouterr().err
+    assert fmu("Fmu.RCCharge", "-o", path, "--kind", "sc") == 1
+    assert "error: --kind sc: an FMU is `me` (Model Exchange: the importer integrates) or `cs`" in capsys.readouterr().err
     assert not (tmp_path / "rc.fmu").exists()
 
 
