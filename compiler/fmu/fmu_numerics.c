@@ -41,10 +41,10 @@ int dy_lu_factor(int n, double *a, int *pivots) {
 
 void dy_lu_apply(int n, const double *lu, const int *pivots, double *b) {
     int i, j, k;
-    for (k = 0; k < n; k++) {
+    for (k = 0; k < n; k++)          /* every row swap first: the factors hold the rows swapped */
         if (pivots[k] != k) { double s = b[k]; b[k] = b[pivots[k]]; b[pivots[k]] = s; }
+    for (k = 0; k < n; k++)
         for (i = k + 1; i < n; i++) b[i] -= lu[i + k * n] * b[k];
-    }
     for (k = n - 1; k >= 0; k--) {
         double s = b[k];
         for (j = k + 1; j < n; j++) s -= lu[k + j * n] * b[j];
