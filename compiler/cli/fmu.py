@@ -1,12 +1,12 @@
-"""`dyadc fmu MODEL --output Model.fmu`: the model as an FMI 2.0 Model Exchange FMU
-(compiler/fmu/, docs/fmu.md)."""
+"""`dyadc fmu MODEL --output Model.fmu`: the model as an FMI 2.0 FMU, Model Exchange or
+Co-Simulation (compiler/fmu/, docs/fmu.md)."""
 from __future__ import annotations
 
 import sys
 
 from compiler.cli.arguments import add_lib_argument, add_units_argument
 
-FMU_HELP = "export a model as an FMU (FMI 2.0 Model Exchange) for other tools"
+FMU_HELP = "export a model as an FMU (FMI 2.0, Model Exchange or Co-Simulation) for other tools"
 
 
 def add_fmu(sub) -> None:
@@ -20,7 +20,8 @@ def add_fmu(sub) -> None:
     p.add_argument("-o", "--output", required=True, metavar="FILE.fmu", help="the FMU to write")
     p.add_argument("--fmi", type=int, default=2, metavar="VERSION", help="the FMI version (2; 3 is not built yet)")
     p.add_argument("--kind", default="me", metavar="KIND",
-                   help="me: Model Exchange (the importer integrates); cs (Co-Simulation) is not built yet")
+                   help="me: Model Exchange (the importer integrates; default); cs: Co-Simulation (the FMU "
+                        "integrates itself, TR-BDF2 at the experiment's tolerance)")
     p.add_argument("-p", dest="params", action="append", default=[], metavar="NAME=VALUE[UNIT]",
                    help="the start value of a parameter (repeatable)")
     p.add_argument("--stop", type=float, metavar="T", help="the stop time of the FMU's default experiment")

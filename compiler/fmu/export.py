@@ -1,4 +1,5 @@
-"""`dyadc fmu` / `compiler.api.export_fmu`: a model compiled into an FMI 2.0 Model Exchange FMU.
+"""`dyadc fmu` / `compiler.api.export_fmu`: a model compiled into an FMI 2.0 FMU, Model Exchange
+(the importer integrates) or Co-Simulation (the FMU integrates itself: fmi2_cosimulation.inc).
 
 The model is compiled with its free top-level inputs made parameters (the FMU's inputs,
 compiler/linear/inputs.py); its C sources (sources.py) are compiled by gcc into the FMU's binary
