@@ -225,6 +225,7 @@ static void reset_values(DyInstance *c) {
     c->values_fresh = 0;
     c->mode = DY_INSTANTIATED;
     c->t = 0.0;
+    c->step = 0.0;                 /* Co-Simulation: the first step size is chosen again */
 }
 
 DYFMI_EXPORT const char *fmi2GetTypesPlatform(void) { return "default"; }
