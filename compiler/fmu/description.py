@@ -114,7 +114,7 @@ def _add_variables(parent, model: CompiledModel, layout: FmuLayout, info: ModelI
         add(name, layout.state_reference(i), info.units.get(name),
             causality="output" if name in outputs else "local", variability="continuous", initial="calculated")
     for i, name in enumerate(model.state_names):
-        add(f"der({name})", layout.derivative_reference(model, i), None,
+        add(f"der({name})", layout.derivative_reference(model, i), _rate_unit(info.units.get(name)),
             real={"derivative": str(index[name])}, causality="local", variability="continuous",
             initial="calculated")
     for name in model.output_names:
@@ -130,6 +130,19 @@ def _add_variables(parent, model: CompiledModel, layout: FmuLayout, info: ModelI
         elif not name.startswith("__"):
             add(name, reference, unit, causality="calculatedParameter", variability="fixed", initial="calculated")
     return index, units
+
+
+def _rate_unit(unit: str | None) -> str | None:
+    """The unit of a state's derivative: its own per second (`m` -> `m/s`, `m/s` -> `m/s/s`);
+    none for an offset unit (degC) or one the unit system does not read."""
+    if not unit or is_offset_unit(unit):
+        return None
+    rate = f"{unit}/s"
+    try:
+        parse_unit(rate)
+    except ValueError:
+        return None
+    return rate
 
 
 def _model_structure(root, model: CompiledModel, layout: FmuLayout, index: Mapping[str, int]) -> None:

@@ -82,6 +82,7 @@ def test_model_description(exported):
     assert variables["mass.m"].causality == "parameter"         # bound to m, settable on its own
     assert variables["F"].description == "Force on the mass (left open: an input of the linearization)"
     assert variables["mass.s"].unit == "m" and variables["mass.v"].unit == "m/s"
+    assert variables["der(mass.s)"].unit == "m/s" and variables["der(mass.v)"].unit == "m/s/s"
     units = {u.name: u for u in description.unitDefinitions}
     assert (units["N"].baseUnit.kg, units["N"].baseUnit.m, units["N"].baseUnit.s) == (1, 1, -2)
     assert variables["der(mass.v)"].derivative is variables["mass.v"]
