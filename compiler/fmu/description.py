@@ -132,6 +132,19 @@ def _add_variables(parent, model: CompiledModel, layout: FmuLayout, info: ModelI
     return index, units
 
 
+def _derivatives(derivatives, model: CompiledModel, layout: FmuLayout, index: Mapping[str, int]) -> None:
+    """Each derivative with the states and inputs it depends on."""
+    depends = derivative_dependencies(model, layout)
+    inputs = [model.parameter_names[i] for i in layout.input_parameters]
+    known = [index[n] for n in model.state_names] + [index[n] for n in inputs]
+    for i, name in enumerate(model.state_names):
+        used = sorted(known[j] for j in depends[i])
+        unknown = ET.SubElement(derivatives, "Unknown", {"index": str(index[f"der({name})"]),
+                                                         "dependencies": " ".join(map(str, used))})
+        if used:
+            unknown.set("dependenciesKind", " ".join(["dependent"] * len(used)))
+
+
 def _rate_unit(unit: str | None) -> str | None:
     """The unit of a state's derivative: its own per second (`m` -> `m/s`, `m/s` -> `m/s/s`);
     none for an offset unit (degC) or one the unit system does not read."""
@@ -151,20 +164,13 @@ def _model_structure(root, model: CompiledModel, layout: FmuLayout, index: Mappi
         outputs = ET.SubElement(structure, "Outputs")
         for name in sorted(layout.output_names, key=index.__getitem__):
             ET.SubElement(outputs, "Unknown", {"index": str(index[name])})
-    derivatives = ET.SubElement(structure, "Derivatives")
-    depends = derivative_dependencies(model, layout)
-    inputs = [model.parameter_names[i] for i in layout.input_parameters]
-    known = [index[n] for n in model.state_names] + [index[n] for n in inputs]
-    for i, name in enumerate(model.state_names):
-        used = sorted(known[j] for j in depends[i])
-        unknown = ET.SubElement(derivatives, "Unknown", {"index": str(index[f"der({name})"]),
-                                                         "dependencies": " ".join(map(str, used))})
-        if used:
-            unknown.set("dependenciesKind", " ".join(["dependent"] * len(used)))
-    initial = ET.SubElement(structure, "InitialUnknowns")
+    if model.state_names:                # an empty <Derivatives> is not valid either
+        _derivatives(ET.SubElement(structure, "Derivatives"), model, layout, index)
     calculated = [n for n in index if n in layout.output_names or n in model.state_names
                   or n.startswith("der(") and n[4:-1] in model.state_names]
     calculated += [model.parameter_names[i] for i, s in enumerate(layout.settable)
                    if s == 0 and not model.parameter_names[i].startswith("__")]
-    for name in sorted(set(calculated), key=index.__getitem__):
-        ET.SubElement(initial, "Unknown", {"index": str(index[name])})
+    if calculated:
+        initial = ET.SubElement(structure, "InitialUnknowns")
+        for name in sorted(set(calculated), key=index.__getitem__):
+            ET.SubElement(initial, "Unknown", {"index": str(index[name])})

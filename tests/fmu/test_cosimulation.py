@@ -22,6 +22,7 @@ TOLERANCE = 1e-8
     ("Fmu.Rectifier", "vout", 0.05, 5e-6),        # state events located inside the FMU: 7.2e-7 V
     ("Fmu.StepHeater", "T", 10.0, 5e-6),          # time events: 1.1e-6 K
     ("Fmu.TwoBodies", "T_hot", 200.0, 5e-4),      # 1.6e-4 K of 400 K
+    ("Fmu.SineSignal", "y", 1.0, 1e-14),          # no states: nothing to integrate
 ])
 def test_cosimulation_matches_dyadc(exported, model, variable, stop, allowed):
     fmu = exported(model, kind="cs")

@@ -29,6 +29,7 @@ def _grid_rows(result, stop: float, points: int):
     ("Fmu.Rectifier", "vout", 0.05),          # state events: the diode's condition
     ("Fmu.StepHeater", "T", 10.0),            # time events: the heater switched on and off
     ("Fmu.TwoBodies", "T_hot", 200.0),        # a thermal model with an algebraic unknown
+    ("Fmu.SineSignal", "y", 1.0),             # no states at all
 ])
 def test_fmpy_validates_and_matches_dyadc(exported, model, variable, stop):
     fmu = exported(model)
