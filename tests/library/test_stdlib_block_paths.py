@@ -1,0 +1,93 @@
+"""BlockComponents under Dyad's documented sub-package paths and the flat paths of the published
+repositories (one an alias of the other), and the blocks added with them, against closed forms;
+model in tests/models/Stdlib/DyadBlockPaths.dyad."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from compiler.errors import DyadError
+from compiler.model.library import Library
+from tests.library.stdlib_support import Compiled
+
+
+@pytest.fixture(scope="module")
+def blocks():
+    return Compiled().run("DyadBlockPaths", 3.0, points=601)
+
+
+def at(result, name, t):
+    return float(np.interp(t, result.time, result[name]))
+
+
+def test_pi_on_a_constant_ramps_under_both_paths(blocks):
+    t = blocks.time
+    np.testing.assert_allclose(blocks["pi.y"], 3 * (2 + 2 * t / 0.5), rtol=1e-8, atol=1e-8)
+    np.testing.assert_allclose(blocks["pi_flat.y"], blocks["pi.y"], rtol=0, atol=1e-12)
+
+
+def test_pid_open_loop_response_to_a_constant_error(blocks):
+    # e = 2: y = k (wp e + e t / Ti + Nd wd e exp(-Nd t / Td))
+    t, e = blocks.time, 2.0
+    expected = 2 * (0.5 * e + e * t / 0.25 + 5 * 0.8 * e * np.exp(-5 * t / 0.5))
+    np.testing.assert_allclose(blocks["pid.y"], expected, rtol=1e-7, atol=1e-7)
+
+
+def test_clock_exp_sine_and_gain(blocks):
+    assert at(blocks, "clock.y", 0.5) == pytest.approx(0.5, abs=1e-12)
+    assert at(blocks, "clock.y", 2.5) == pytest.approx(2.0, abs=1e-9)
+    t = blocks.time
+    damped = 0.1 + 2 * np.exp(-0.5 * t) * np.sin(2 * math.pi * 1.5 * t + 0.3)
+    np.testing.assert_allclose(blocks["exp_sine.y"], damped, atol=1e-9)
+    np.testing.assert_allclose(blocks["gain.y"], -3.0, atol=1e-12)
+
+
+@pytest.mark.parametrize("t, square, triangle", [
+    (0.1, -0.5, -0.5),                    # before start_time: the offset
+    (0.3, 1.0, -0.5 - 1.5 + 1.5 * 4 * 0.125),   # first half of the period: high, rising
+    (0.7, -2.0, -0.5 + 1.5 - 1.5 * 4 * 0.125),  # second half: low, falling
+    (1.1, 1.0, -0.5 - 1.5 + 1.5 * 4 * 0.125),   # one period later
+])
+def test_square_and_triangle_waves(blocks, t, square, triangle):
+    assert at(blocks, "square.y", t) == pytest.approx(square, abs=1e-9)
+    assert at(blocks, "triangle.y", t) == pytest.approx(triangle, abs=1e-6)
+
+
+def test_slew_rate_limiter_rises_at_its_limit(blocks):
+    assert at(blocks, "slew.y", 0.4) == pytest.approx(0.0, abs=1e-9)
+    assert at(blocks, "slew.y", 0.75) == pytest.approx(0.5, abs=1e-4)
+    assert at(blocks, "slew.y", 2.5) == pytest.approx(1.0, abs=1e-6)
+
+
+def test_flat_path_is_an_alias_of_the_documented_one():
+    library = Library()
+    documented = library.lookup("BlockComponents.Continuous.LimPID", "", None)
+    flat = library.lookup("BlockComponents.LimPID", "", None)
+    assert flat is documented
+    assert flat.qualified_name == "BlockComponents.Continuous.LimPID"
+    assert library.find_aliased("BlockComponents.Interfaces.SISO") is None   # not a flat path
+
+
+def write(path, text):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(text)
+
+
+def test_a_definition_at_the_top_level_wins_over_the_alias(tmp_path):
+    write(tmp_path / "P" / "X.dyad", "component X\n  parameter a::Real = 1\nend\n")
+    write(tmp_path / "P" / "S" / "X.dyad", "component X\n  parameter b::Real = 1\nend\n")
+    found = Library([tmp_path]).lookup("P.X", "", None)
+    assert found.qualified_name == "P.X"
+
+
+def test_a_name_in_two_subpackages_is_no_alias_and_the_hint_lists_both(tmp_path):
+    write(tmp_path / "P" / "A" / "X.dyad", "component X\nend\n")
+    write(tmp_path / "P" / "B" / "X.dyad", "component X\nend\n")
+    library = Library([tmp_path])
+    assert library.lookup("P.X", "", None) is None
+    with pytest.raises(DyadError) as err:
+        library.resolve("P.X", "", None, None, what="component type")
+    assert err.value.hint == ("`P.X` is defined in more than one subpackage of `P`; name one: "
+                              "`P.A.X`, `P.B.X`")
