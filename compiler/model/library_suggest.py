@@ -5,13 +5,16 @@ from __future__ import annotations
 
 import re
 
-from compiler.errors import closest, suggest_name
+from compiler.errors import DyadError, Span, closest, suggest_name
 from compiler.model.library_path import BASE_PACKAGE
 from compiler.syntax import ast
 
 PRIMITIVE_TYPES = ("Real", "Integer", "Boolean", "String")
 DEFINITION_KEYWORDS = r"(?:component|connector|type|enum|analysis|struct)"
 _COMPONENT_HEADER = re.compile(r"(?<![\w.])component\s+(\w+)")
+# Dyad's packages of sampled (discrete-time, clocked) components: dyadc has no clocked semantics
+# yet, so a use of one is refused by name rather than reported as an unknown name.
+SAMPLED_PACKAGES = ("DiscreteComponents",)
 
 
 def suggest_component(library, name: str, package: str, file: ast.File | None) -> str | None:
@@ -68,3 +71,13 @@ def ambiguous_alias_hint(library, name: str, package: str, file: ast.File | None
                     f"`{candidate.rpartition('.')[0]}`; name one: "
                     + ", ".join(f"`{found.qualified_name}`" for found in defined))
     return None
+
+
+def sampled_component_error(name: str, span: Span | None) -> DyadError | None:
+    """The refusal of a component of one of Dyad's sampled packages, or None for another name."""
+    package = name.split(".", 1)[0]
+    if package not in SAMPLED_PACKAGES or "." not in name:
+        return None
+    return DyadError(f"`{name}` is a sampled (discrete-time) component of Dyad's `{package}`; dyadc "
+                     f"does not simulate clocked (sampled) components yet", span,
+                     hint="model the controller or filter in continuous time (BlockComponents.Continuous)")

@@ -91,3 +91,17 @@ def test_a_name_in_two_subpackages_is_no_alias_and_the_hint_lists_both(tmp_path)
         library.resolve("P.X", "", None, None, what="component type")
     assert err.value.hint == ("`P.X` is defined in more than one subpackage of `P`; name one: "
                               "`P.A.X`, `P.B.X`")
+
+
+def test_a_sampled_component_is_refused_at_its_declaration(tmp_path):
+    path = tmp_path / "Loop.dyad"
+    path.write_text("component Loop\n  plant = BlockComponents.Continuous.FirstOrder(T = 1)\n"
+                    "  hold = DiscreteComponents.ZeroOrderHold()\nrelations\n"
+                    "  connect(hold.y, plant.u)\nend\n")
+    from compiler.model.flatten import flatten_model
+    with pytest.raises(DyadError) as err:
+        flatten_model(str(path))
+    assert (err.value.span.line, err.value.span.column) == (3, 3)
+    assert err.value.message == ("`DiscreteComponents.ZeroOrderHold` is a sampled (discrete-time) "
+                                 "component of Dyad's `DiscreteComponents`; dyadc does not simulate "
+                                 "clocked (sampled) components yet")
