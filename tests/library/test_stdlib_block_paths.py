@@ -35,6 +35,19 @@ def test_pid_open_loop_response_to_a_constant_error(blocks):
     np.testing.assert_allclose(blocks["pid.y"], expected, rtol=1e-7, atol=1e-7)
 
 
+def test_transfer_functions_step_responses(blocks):
+    # input 2 from t = 0, starting at rest
+    t = blocks.time
+    np.testing.assert_allclose(blocks["lag.y"], 2 * (1 - np.exp(-2 * t)), atol=1e-8)
+    # (2 s + 4) / ((s + 1)(s + 2)) = 2 / (s + 1): 2 * 2 (1 - exp(-t))
+    np.testing.assert_allclose(blocks["second.y"], 4 * (1 - np.exp(-t)), atol=1e-8)
+    # (s + 3) / (s + 1) = 1 + 2 / (s + 1): 2 (1 + 2 (1 - exp(-t)))
+    np.testing.assert_allclose(blocks["lead.y"], 2 * (3 - 2 * np.exp(-t)), atol=1e-8)
+    # its states: x[2] = u / (s^2 + 3 s + 2), x[1] = s x[2]
+    np.testing.assert_allclose(blocks["second.x[2]"], 2 * (0.5 - np.exp(-t) + 0.5 * np.exp(-2 * t)), atol=1e-8)
+    np.testing.assert_allclose(blocks["second.x[1]"], 2 * (np.exp(-t) - np.exp(-2 * t)), atol=1e-8)
+
+
 def test_clock_exp_sine_and_gain(blocks):
     assert at(blocks, "clock.y", 0.5) == pytest.approx(0.5, abs=1e-12)
     assert at(blocks, "clock.y", 2.5) == pytest.approx(2.0, abs=1e-9)
@@ -105,3 +118,14 @@ def test_a_sampled_component_is_refused_at_its_declaration(tmp_path):
     assert err.value.message == ("`DiscreteComponents.ZeroOrderHold` is a sampled (discrete-time) "
                                  "component of Dyad's `DiscreteComponents`; dyadc does not simulate "
                                  "clocked (sampled) components yet")
+
+
+def test_a_size_taken_from_the_value_needs_a_value(tmp_path):
+    path = tmp_path / "Open.dyad"
+    path.write_text("component Open\n  parameter a::Real[:]\n  variable x::Real\n"
+                    "relations\n  der(x) = -sum(a) * x\nend\n")
+    from compiler.model.flatten import flatten_model
+    with pytest.raises(DyadError) as err:
+        flatten_model(str(path))
+    assert err.value.message == "parameter `a` takes its size from its value (`:`) but has no value"
+    assert (err.value.span.line, err.value.span.column) == (2, 21)   # the `:`
