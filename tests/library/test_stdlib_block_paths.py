@@ -48,6 +48,18 @@ def test_transfer_functions_step_responses(blocks):
     np.testing.assert_allclose(blocks["second.x[1]"], 2 * (np.exp(-t) - np.exp(-2 * t)), atol=1e-8)
 
 
+def test_sine_and_cosine_of_variable_frequency(blocks):
+    # f = 1 + 0.5 t for t < 2: phi = 0.2 + 2 pi (t + t^2 / 4); amplitude 2
+    t = blocks.time
+    early = t <= 2
+    phi = 0.2 + 2 * math.pi * (t + t ** 2 / 4)
+    np.testing.assert_allclose(blocks["chirp_sin.y"][early], (0.5 + 2 * np.sin(phi))[early], atol=1e-7)
+    np.testing.assert_allclose(blocks["chirp_cos.y"][early], (2 * np.cos(phi))[early], atol=1e-7)
+    # from t = 2 on the frequency stays 2 Hz
+    late_phi = 0.2 + 2 * math.pi * (3 + 2 * (t - 2))
+    np.testing.assert_allclose(blocks["chirp_cos.y"][~early], (2 * np.cos(late_phi))[~early], atol=1e-6)
+
+
 def test_clock_exp_sine_and_gain(blocks):
     assert at(blocks, "clock.y", 0.5) == pytest.approx(0.5, abs=1e-12)
     assert at(blocks, "clock.y", 2.5) == pytest.approx(2.0, abs=1e-9)
