@@ -60,6 +60,26 @@ def test_sine_and_cosine_of_variable_frequency(blocks):
     np.testing.assert_allclose(blocks["chirp_cos.y"][~early], (2 * np.cos(late_phi))[~early], atol=1e-6)
 
 
+def test_parts_removed_structurally_leave_no_state(blocks):
+    # PD (with_I = false): y = k (wp e + Nd wd e exp(-Nd t / Td)), e = 2
+    t = blocks.time
+    np.testing.assert_allclose(blocks["pd.y"], 2 * (0.5 * 2 + 5 * 0.8 * 2 * np.exp(-5 * t / 0.5)),
+                               rtol=1e-7, atol=1e-7)
+    # limited P (with_I = with_D = false): clamp(k wp u_s, -3, 3) = clamp(4 * 2, -3, 3)
+    np.testing.assert_allclose(blocks["p_only.y"], 3.0, atol=1e-12)
+    np.testing.assert_allclose(blocks["p_only.x_i"], 0.0, atol=0)
+    np.testing.assert_allclose(blocks["p_only.x_d"], 0.0, atol=0)
+
+
+def test_flat_limpid_keeps_the_published_default_of_wd():
+    from compiler.model.flatten import flatten_model
+    flat = flatten_model("BlockComponents.LimPID")
+    documented = flatten_model("BlockComponents.Continuous.LimPID")
+    def wd(system):
+        return next(p.value for p in system.parameters if p.name == "wd")
+    assert (wd(flat), wd(documented)) == (0.0, 1.0)
+
+
 def test_clock_exp_sine_and_gain(blocks):
     assert at(blocks, "clock.y", 0.5) == pytest.approx(0.5, abs=1e-12)
     assert at(blocks, "clock.y", 2.5) == pytest.approx(2.0, abs=1e-9)
@@ -88,10 +108,10 @@ def test_slew_rate_limiter_rises_at_its_limit(blocks):
 
 def test_flat_path_is_an_alias_of_the_documented_one():
     library = Library()
-    documented = library.lookup("BlockComponents.Continuous.LimPID", "", None)
-    flat = library.lookup("BlockComponents.LimPID", "", None)
+    documented = library.lookup("BlockComponents.Continuous.PID", "", None)
+    flat = library.lookup("BlockComponents.PID", "", None)
     assert flat is documented
-    assert flat.qualified_name == "BlockComponents.Continuous.LimPID"
+    assert flat.qualified_name == "BlockComponents.Continuous.PID"
     assert library.find_aliased("BlockComponents.Interfaces.SISO") is None   # not a flat path
 
 
