@@ -163,6 +163,7 @@ class Library(FunctionLookup):
             return None
         project = provider.path / package / PROJECT_FILE
         return project_dependencies(self._text(project), project, package)
+
     @property
     def user_roots(self) -> list[Path]:
         """The roots the user named (-L, DYADC_PATH), in order."""
