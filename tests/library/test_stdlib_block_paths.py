@@ -71,13 +71,13 @@ def test_parts_removed_structurally_leave_no_state(blocks):
     np.testing.assert_allclose(blocks["p_only.x_d"], 0.0, atol=0)
 
 
-def test_flat_limpid_keeps_the_published_default_of_wd():
+def test_limpid_differentiates_the_whole_error_by_default():
+    # wd = 1: the published flat LimPID differentiates u_s - u_m (it declares wd = 0 but never
+    # uses it), so both spellings of ours default to wd = 1 and are one definition
     from compiler.model.flatten import flatten_model
-    flat = flatten_model("BlockComponents.LimPID")
-    documented = flatten_model("BlockComponents.Continuous.LimPID")
-    def wd(system):
-        return next(p.value for p in system.parameters if p.name == "wd")
-    assert (wd(flat), wd(documented)) == (0.0, 1.0)
+    for spelling in ("BlockComponents.LimPID", "BlockComponents.Continuous.LimPID"):
+        system = flatten_model(spelling)
+        assert next(p.value for p in system.parameters if p.name == "wd") == 1.0
 
 
 def test_clock_exp_sine_and_gain(blocks):
