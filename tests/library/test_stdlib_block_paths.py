@@ -103,6 +103,13 @@ def test_square_and_triangle_waves(blocks, t, square, triangle):
     assert at(blocks, "triangle.y", t) == pytest.approx(triangle, abs=1e-6)
 
 
+def test_variable_limiter_follows_its_limit_signals(blocks):
+    expected = np.minimum(np.maximum(blocks["clock.y"], 0.0), blocks["lag.y"])
+    np.testing.assert_allclose(blocks["band.y"], expected, atol=1e-12)
+    assert at(blocks, "band.y", 0.1) == pytest.approx(2 * (1 - math.exp(-0.2)), abs=1e-7)   # upper
+    assert at(blocks, "band.y", 1.5) == pytest.approx(1.0, abs=1e-7)                      # passes u
+
+
 def test_slew_rate_limiter_rises_at_its_limit(blocks):
     assert at(blocks, "slew.y", 0.4) == pytest.approx(0.0, abs=1e-9)
     assert at(blocks, "slew.y", 0.75) == pytest.approx(0.5, abs=1e-4)
