@@ -60,6 +60,20 @@ def test_sine_and_cosine_of_variable_frequency(blocks):
     np.testing.assert_allclose(blocks["chirp_cos.y"][~early], (2 * np.cos(late_phi))[~early], atol=1e-6)
 
 
+def test_pid_with_an_external_derivative_and_its_limit(blocks):
+    # e = 2, u_d = -3, u_ff = 2: v = 2 (0.5 * 2 + x_i - 3) + 0.5 * 2 = 2 x_i - 3 with
+    # x_i' = e / Ti = 8, so v = 16 t - 3 until y reaches y_max = 20 at t0 = 23/16; then
+    # Ti x_i' = e + (20 - v) / (k Ni) gives v' = -(8 / 1.8) (v - 23.6): the back-calculation
+    # holds v at 20 + e k Ni = 23.6 instead of winding up
+    t = blocks.time
+    t0 = 23 / 16
+    free = t < t0
+    np.testing.assert_allclose(blocks["ext.y"][free], (16 * t - 3)[free], atol=1e-6)
+    np.testing.assert_allclose(blocks["ext.y"][~free], 20.0, atol=1e-9)
+    tracked = 23.6 - 3.6 * np.exp(-(8 / 1.8) * (t - t0))
+    np.testing.assert_allclose(blocks["ext.v"][~free], tracked[~free], atol=1e-5)
+
+
 def test_parts_removed_structurally_leave_no_state(blocks):
     # PD (with_I = false): y = k (wp e + Nd wd e exp(-Nd t / Td)), e = 2
     t = blocks.time
