@@ -101,6 +101,7 @@ def test_clock_exp_sine_and_gain(blocks):
     damped = 0.1 + 2 * np.exp(-0.5 * t) * np.sin(2 * math.pi * 1.5 * t + 0.3)
     np.testing.assert_allclose(blocks["exp_sine.y"], damped, atol=1e-9)
     np.testing.assert_allclose(blocks["gain.y"], -3.0, atol=1e-12)
+    np.testing.assert_allclose(blocks["inverse.y"], 0.5, atol=1e-12)        # 4 y = 2
     np.testing.assert_allclose(blocks["sum3.y"], 2 - 2 * blocks["step.y"] + 0.5 * blocks["clock.y"],
                                atol=1e-12)
     assert at(blocks, "sum3.y", 2.5) == pytest.approx(2 - 2 + 0.5 * 2.0, abs=1e-9)
