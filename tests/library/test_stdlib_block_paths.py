@@ -94,6 +94,18 @@ def test_limpid_differentiates_the_whole_error_by_default():
         assert next(p.value for p in system.parameters if p.name == "wd") == 1.0
 
 
+def test_state_space_oscillator_about_its_operating_point(blocks):
+    # x1'' + 0.4 x1' + 4 x1 = 4 (u - u0) = 4, x1(0) = 0.5, x1'(0) = 0: x1 = 1 - 0.5 e^(-0.2 t)
+    # (cos(wd t) + 0.2 / wd sin(wd t)), wd = sqrt(4 - 0.04); y1 = x1 + 0.5, y2 = 2 x2 + 0.1 (u - u0)
+    t = blocks.time
+    wd = math.sqrt(4 - 0.04)
+    x1 = 1 - 0.5 * np.exp(-0.2 * t) * (np.cos(wd * t) + 0.2 / wd * np.sin(wd * t))
+    x2 = 0.5 * np.exp(-0.2 * t) * (0.04 / wd + wd) * np.sin(wd * t)
+    np.testing.assert_allclose(blocks["oscillator.x[1]"], x1, atol=1e-7)
+    np.testing.assert_allclose(blocks["oscillator.y[1]"], x1 + 0.5, atol=1e-7)
+    np.testing.assert_allclose(blocks["oscillator.y[2]"], 2 * x2 + 0.1, atol=1e-6)
+
+
 def test_clock_exp_sine_and_gain(blocks):
     assert at(blocks, "clock.y", 0.5) == pytest.approx(0.5, abs=1e-12)
     assert at(blocks, "clock.y", 2.5) == pytest.approx(2.0, abs=1e-9)
