@@ -21,6 +21,7 @@ from compiler.structure.indexed import IndexedSystem, build_indexed
 from compiler.structure.initialization import build_initial_problem
 from compiler.structure.parameters import used_parameters
 from compiler.structure.prune import prune_assignments
+from compiler.structure.start_point import completed_point
 from compiler.structure.reduced import Assignment, ReducedSystem
 
 
@@ -124,7 +125,11 @@ def select_states(system: IndexedSystem, priorities: dict[str, int], flat: FlatS
         selection = select_dummy_derivatives(system, priority, pivots)
     else:
         selection = select_dummy_derivatives(system, priority, _numeric_jacobian(system, flat, point, True))
-        if selection.deficient:     # singular where unknowns without values are 0: as before
+        if selection.deficient:     # singular where unknowns without values are 0: those the
+            # equations give explicitly (time-driven positions) computed first
+            completed = completed_point(system, flat, point)
+            selection = select_dummy_derivatives(system, priority, _numeric_jacobian(system, flat, completed, True))
+        if selection.deficient:     # still singular: the structural choice, as before
             selection = select_dummy_derivatives(system, priority, _numeric_jacobian(system, flat, point, False))
     if selection.deficient:
         rows = [e for level in selection.levels for e in level[0]]
