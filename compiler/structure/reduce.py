@@ -234,7 +234,11 @@ def _assemble(flat, alias, system, selection, causal: Causalization, report) -> 
     initial = build_initial_problem(flat, alias, states, algebraics, alg,
                                     [system.origins[e] for e in causal.residual_equations],
                                     kept, observables, guesses)
-    expressions = ode + alg + [a.expr for a in kept] + [a.expr for a in observables] + initial.residuals
+    # Every parameter of the index-1 equations, also one that cancels from all of the above
+    # (`s * x = s * y` solved as x = y): the state-set monitor's pivots are derivatives of these
+    # equations and may hold it (a Body's equations scaled by a parameter, issue 25).
+    expressions = ode + alg + [a.expr for a in kept] + [a.expr for a in observables] + initial.residuals \
+        + list(system.equations)
     parameters = used_parameters(flat, expressions)
     return ReducedSystem(
         name=flat.name, states=states, ode=ode, algebraics=algebraics, alg=alg,

@@ -103,3 +103,19 @@ def test_which_dummies_a_monitored_model_keeps_in_the_error_test():
     amplifier = api.compile(str(TRANSAMP)).model
     candidates = {name for level in amplifier.state_sets for name in level["candidates"]}
     assert error_controlled(amplifier) == set() and "der(y5)" in candidates
+
+
+def test_the_transistor_amplifier_with_a_capacitor_rate_named_keeps_the_same_states(tmp_path):
+    """C3's voltage rate named by an auxiliary (`a45 = der(y4) - der(y5)`, `C3 * a45 = ...`): the
+    derivative-rank analysis must see through it (compiler/structure/derivative_rank.py). Before,
+    the mirror equation's dependency was taken for one that still held a45, a45 became a state;
+    with C3 written as a literal (metamorphic seed 0) index reduction failed."""
+    text = TRANSAMP.read_text(encoding="utf-8")
+    named = text.replace("  C3 * (der(y4) - der(y5)) = ", "  C3 * a45 = ").replace(
+        "relations\n", "  variable a45::Real\nrelations\n  a45 = der(y4) - der(y5)\n", 1)
+    assert named.count("a45") == 3
+    path = tmp_path / TRANSAMP.name
+    path.write_text(named, encoding="utf-8")
+    model = api.compile(str(path)).model
+    assert sorted(model.state_names) == sorted(api.compile(str(TRANSAMP)).model.state_names)
+    assert "a45" not in model.state_names
