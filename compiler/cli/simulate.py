@@ -35,6 +35,9 @@ def add_simulate(sub) -> None:
                                                         "time,event,direction (rising/falling)")
     p.add_argument("--codegen", choices=["c"], help="compile the model to C with gcc (the first run "
                                                     "builds it in the background, later runs use it)")
+    p.add_argument("--integrator", choices=["casadi", "native"], default="casadi",
+                   help="IDAS through CasADi (default), or the native IDAS driver built by `make "
+                        "install` (needs --codegen c; otherwise CasADi's, with a warning)")
     p.add_argument("--no-cache", action="store_true",
                    help="compile from source and store nothing (docs/cache.md; or DYADC_CACHE_DIR=off)")
     p.add_argument("--keep-partial", action="store_true",
@@ -99,7 +102,8 @@ def _simulate(args, background: list) -> int:
         result = simulate_compiled(compilation, args.stop, start=args.start, rtol=args.rtol,
                                    atol=args.atol, points=args.points,
                                    saveat=None if saveat is None else saveat.grid(), params=params,
-                                   bounds="error" if args.strict_bounds else "warn")
+                                   bounds="error" if args.strict_bounds else "warn",
+                                   integrator=_integrator(args.integrator))
     except SimulationError as failure:
         if args.keep_partial and args.output and failure.partial is not None:
             partial = _partial_path(args.output)
@@ -117,6 +121,14 @@ def _simulate(args, background: list) -> int:
     if not args.output and not args.plot:
         _print_final(result, names)
     return 0
+
+
+def _integrator(name: str):
+    """What makes the run's integrators for --integrator NAME (None: the runtime's default)."""
+    if name == "native":
+        from compiler.native import make_integrator
+        return make_integrator
+    return None
 
 
 def _partial_path(output: str) -> str:

@@ -21,7 +21,7 @@ from pathlib import Path
 
 import casadi as ca
 
-from compiler.runtime import CompiledModel, polishing
+from compiler.runtime import CompiledModel, polishing, watches
 
 FLAGS = ["-O1", "-fPIC", "-shared"]
 COMPILE_TIMEOUT = 600
@@ -76,13 +76,24 @@ def pointwise_functions(model: CompiledModel) -> list[ca.Function]:
                         ca.Function(names["algebraic_residual"], [x, z, p, t], [alg])]
 
 
+def watch_functions(model: CompiledModel) -> list[ca.Function]:
+    """`dyad_watch(x, z, p, t, atol)`: the zero functions a run watches (runtime/watches.py, the
+    same rows in the same order), for the root finding of the native IDAS driver (compiler/native),
+    which calls it from C; `atol` is an input because the bounds' slack depends on the run's
+    absolute tolerance. None of it for a model that watches nothing."""
+    x, z, p, t = symbols = model.symbols()
+    atol = ca.SX.sym("atol")
+    rows, labels = watches.watched_rows(model, symbols, atol)
+    return [ca.Function("dyad_watch", [x, z, p, t, atol], [rows])] if labels else []
+
+
 def c_source(model: CompiledModel) -> str:
     dae = dae_function(model)
     with tempfile.TemporaryDirectory(prefix="dyadc-cg-") as tmp:
         generator = ca.CodeGenerator(Path(SOURCE_NAME).stem, {"with_header": False})
         generator.add(dae)
         generator.add(state_jacobian(dae))
-        for function in pointwise_functions(model):
+        for function in pointwise_functions(model) + watch_functions(model):
             generator.add(function)
         generator.generate(tmp + os.sep)        # the prefix is the output directory
         return (Path(tmp) / SOURCE_NAME).read_text(encoding="utf-8")
