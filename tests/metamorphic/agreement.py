@@ -72,7 +72,9 @@ def start_context(base: Base, outcome: Outcome, folder: Path) -> StartContext:
     """What starts.initial_and_guess needs of the base: its values at the start (from its run)
     and a test of a variant's initial system: it compiles, and fixes the same unknowns at their
     start values as the base's does (`reduced.initial.chosen`), none more."""
-    starts = {name: float(values[0]) for name, values in outcome.values.items()} if outcome.ran else {}
+    if not outcome.ran:                  # a base that stops (SliderGuide, a partial model) moves nothing
+        return StartContext({}, lambda component: False)
+    starts = {name: float(values[0]) for name, values in outcome.values.items()}
     chosen = dict(api.compile(str(base.path), lib_dirs=base.lib_dirs).reduced.initial.chosen)
     checked = iter(range(10**6))
 
