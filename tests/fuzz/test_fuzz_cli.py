@@ -19,7 +19,7 @@ from tests.fuzz.seeds import EXTREME_NUMBERS, HOSTILE_NAMES, NESTING_DEPTHS, NES
 
 COMMANDS = ("parse", "fmt", "check", "flatten", "simulate")
 # Every other command that reads a model (compiler/cli): each reads the same mutated sources.
-MODEL_COMMANDS = ("inspect", "compile", "run", "sweep", "test", "linearize", "animate")
+MODEL_COMMANDS = ("inspect", "compile", "run", "sweep", "test", "linearize", "animate", "fmu")
 # A parameter of each seed that `sweep` varies over two values
 SWEPT = {"Oscillator": "k=[3,4]", "RCLadder": "R=[1000,2000]", "LibraryRC": "resistor.R=[100,200]"}
 
@@ -41,6 +41,8 @@ def command_line(command: str, path: str, seed) -> list[str]:
         return ["test", path, "--golden", "golden"]
     if command == "animate":
         return ["animate", path, "--stop", seed.stop, "--frames", "2", "--output", "side.gif"]
+    if command == "fmu":
+        return ["fmu", path, "-o", "model.fmu"]
     return [command, path]
 
 

@@ -55,7 +55,7 @@ def _assert_located(outcome, path: str, line: int, words: str):
 
 
 def _bug(name: str, what: str):
-    """A strict xfail for a bug recorded in known_bugs.py under `name` (none is open now)."""
+    """A strict xfail for a bug recorded in known_bugs.py under `name` (one is open: linearize_non_finite)."""
     return pytest.mark.xfail(strict=True, reason=f"known bug {name}: {what}")
 
 
@@ -196,3 +196,14 @@ def test_a_capacitance_of_1e308_simulates(fuzz_base):
     outcome = run_in_process(["simulate", str(write_seed(work, LIBRARY_RC, text)), "--stop", "0.5", "--points", "5"], work)
     _assert_clear(outcome, HANG_LIMIT_S)
     assert outcome.status == 0, outcome.describe()
+
+
+@_bug("linearize_non_finite", "dyadc linearize with A holding inf: internal LinAlgError")
+def test_linearize_of_a_mass_that_underflows_to_zero_gives_a_clear_error(fuzz_base):
+    """Found by fuzzing `dyadc linearize` (issue 25 item 4): m = 1e-400 is 0, der(v) = -k x / m
+    makes A infinite and numpy's eigenvalues raise. Expected: a located error at the parameter."""
+    work = example_dir(fuzz_base)
+    path = _oscillator_with(work, "parameter m::Real = 1.0", "parameter m::Real = 1e-400")
+    outcome = run_in_process(["linearize", path], work)
+    _assert_clear(outcome, HANG_LIMIT_S)
+    assert outcome.status == 1 and is_located(outcome), outcome.describe()

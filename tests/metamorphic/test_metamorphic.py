@@ -87,11 +87,11 @@ def test_a_rewritten_model_gives_the_same_verdict_and_numbers(label, seed, base_
                        + f"\nsource: {path}\n" + path.read_text()[:4000])
 
 
-# (model, seed) whose drawn library definition is rewritten: electrical, blocks, multibody,
+# (model, seed) whose drawn library definition is rewritten: electrical, multibody, rotational,
 # hydraulics and the soil contact, every interface-keeping rewrite among them (test below) but
 # the guesses' forms: no library definition the corpus instantiates declares a guess.
-SUBCOMPONENT_SAMPLE = (("RCCharging", 1), ("PIDLoop", 1), ("SliderCrank", 2), ("CylinderHoldingLoad", 2),
-                       ("SoilCutting", 0), ("BlockSignals", 2), ("RotationalSystems", 1), ("ThermalSystems", 2))
+SUBCOMPONENT_SAMPLE = (("RCCharging", 1), ("FallingBody", 1), ("SliderCrank", 2), ("CylinderHoldingLoad", 2),
+                       ("SoilCutting", 0), ("ValveFlow", 5), ("RotationalSystems", 1), ("Lever", 3))
 
 
 def _subcomponent_cases():
