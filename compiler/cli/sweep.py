@@ -77,7 +77,10 @@ def run_sweep(args) -> int:
         print(f"interrupted: {stop}{where}", file=sys.stderr)
         return 130
     report(result, args)
-    return 0 if result.succeeded else 1
+    if result.succeeded:
+        return 0
+    print(f"error: no sample of {len(result.design)} succeeded (the reasons are above)", file=sys.stderr)
+    return 1
 
 
 def check_options(args) -> None:

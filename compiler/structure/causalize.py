@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 import sympy
 
+from compiler.model.flat import TIME
 from compiler.model.symbols import free_symbols
 from compiler.structure.differentiate import partial
 from compiler.structure.graph.blt import block_lower_triangular
@@ -49,11 +50,13 @@ class LinearSolver:
         return self._coefficient(e, v) is not None
 
     def safely_solvable(self, e: int, v: int) -> bool:
-        """Solvable with a coefficient free of unknowns: the division can never be by zero."""
+        """Solvable with a coefficient of parameters and constants only: the division can never
+        be by zero along the run. A coefficient that varies, with the unknowns or with time (a
+        road height r * sin(omega * time) as a lever arm), can pass zero where the block is regular."""
         coefficient = self._coefficient(e, v)
         if coefficient is None:
             return False
-        return not any(s in self.system.index_of for s in free_symbols(coefficient))
+        return not any(s in self.system.index_of or s == TIME for s in free_symbols(coefficient))
 
     def _coefficient(self, e: int, v: int) -> sympy.Expr | None:
         """d residual / d unknown if the residual is linear in the unknown (and the coefficient

@@ -12,6 +12,7 @@ for those the dependency holds everywhere, not just at one point.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from fractions import Fraction
 
@@ -32,6 +33,52 @@ class RankReport:
 def remove_derivative_dependencies(equations: list[sympy.Expr], derivative_symbols: set[sympy.Symbol],
                                    parameter_values: dict[sympy.Symbol, float], tol: float = 1e-10
                                    ) -> tuple[list[sympy.Expr], RankReport]:
+    """The equations with one equation of each dependent set replaced by its derivative-free
+    combination. A dependency may hide behind an auxiliary variable that names a combination of
+    derivatives (`a = der(y4) - der(y5)`, `C3 * a = ...` beside `C3 * (der(y5) - der(y4)) = ...`):
+    the analysis is repeated with such auxiliaries replaced by their definitions in the other
+    equations (the definitions left out), and its replacements are taken where it finds more
+    dependencies than the first analysis found genuine ones (models without hidden ones keep the
+    first analysis as it was)."""
+    result, report = _remove_dependencies(equations, derivative_symbols, parameter_values, tol)
+    definitions = _derivative_definitions(equations, derivative_symbols, parameter_values)
+    if not definitions:
+        return result, report
+    # The definitions themselves stay out of the second analysis: their rows are what the
+    # substitution already accounts for (kept in, `w = der(v)` and `m * w = f` would look dependent).
+    defining = {i for i, _ in definitions.values()}
+    rule = {v: expr for v, (_, expr) in definitions.items()}
+    substituted = [sympy.Integer(0) if i in defining else eq.xreplace(rule) for i, eq in enumerate(equations)]
+    again, report_again = _remove_dependencies(substituted, derivative_symbols, parameter_values, tol)
+    # What the first analysis found may be no constraint between would-be states: a definition
+    # found dependent on the equation it hides in, or a combination that still holds an auxiliary
+    # (a derivative in disguise). Only the replaced rows change; the others keep their auxiliaries.
+    genuine = [i for i in report.replaced if i not in defining and not free_symbols(result[i]) & rule.keys()]
+    if len(report_again.replaced) > len(genuine):
+        replaced = set(report_again.replaced)
+        return [again[i] if i in replaced else eq for i, eq in enumerate(equations)], report_again
+    return result, report
+
+
+def _derivative_definitions(equations, derivative_symbols, parameter_values) -> dict:
+    """auxiliary -> (its equation, the combination) for every auxiliary that one equation defines
+    as a combination of derivatives with constant coefficients (`v = der(a) - der(b)`; v itself
+    never differentiated)."""
+    definitions: dict[sympy.Symbol, tuple[int, sympy.Expr]] = {}
+    for i, eq in enumerate(equations):
+        symbols = free_symbols(eq)
+        others = [s for s in symbols if s not in derivative_symbols and s not in parameter_values]
+        if len(others) != 1 or not symbols & derivative_symbols or others[0] in definitions \
+                or sympy.Symbol(f"der({others[0].name})") in derivative_symbols:
+            continue
+        coefficient = partial(eq, others[0])
+        if coefficient == 0 or any(s not in parameter_values for s in free_symbols(coefficient)):
+            continue
+        definitions[others[0]] = (i, -eq.xreplace({others[0]: sympy.Integer(0)}) / coefficient)
+    return definitions
+
+
+def _remove_dependencies(equations, derivative_symbols, parameter_values, tol) -> tuple[list[sympy.Expr], RankReport]:
     report = RankReport()
     rows, coefficient_rows = [], []
     ders = sorted(derivative_symbols, key=lambda s: s.name)
@@ -47,6 +94,8 @@ def remove_derivative_dependencies(equations: list[sympy.Expr], derivative_symbo
             if any(s not in parameter_values for s in free_symbols(coefficient)):
                 break                                   # depends on unknowns (or nonlinear in d)
             value = float(coefficient.xreplace(parameter_values))
+            if not math.isfinite(value):
+                break                                   # overflowed (C = 1e308 times a factor): no rank
             if value != 0.0:
                 row[der_index[d]] = value
         else:

@@ -21,6 +21,7 @@ from compiler.structure.indexed import IndexedSystem, build_indexed
 from compiler.structure.initialization import build_initial_problem
 from compiler.structure.parameters import used_parameters
 from compiler.structure.prune import prune_assignments
+from compiler.structure.start_point import completed_point
 from compiler.structure.reduced import Assignment, ReducedSystem
 
 
@@ -124,7 +125,11 @@ def select_states(system: IndexedSystem, priorities: dict[str, int], flat: FlatS
         selection = select_dummy_derivatives(system, priority, pivots)
     else:
         selection = select_dummy_derivatives(system, priority, _numeric_jacobian(system, flat, point, True))
-        if selection.deficient:     # singular where unknowns without values are 0: as before
+        if selection.deficient:     # singular where unknowns without values are 0: those the
+            # equations give explicitly (time-driven positions) computed first
+            completed = completed_point(system, flat, point)
+            selection = select_dummy_derivatives(system, priority, _numeric_jacobian(system, flat, completed, True))
+        if selection.deficient:     # still singular: the structural choice, as before
             selection = select_dummy_derivatives(system, priority, _numeric_jacobian(system, flat, point, False))
     if selection.deficient:
         rows = [e for level in selection.levels for e in level[0]]
@@ -229,7 +234,11 @@ def _assemble(flat, alias, system, selection, causal: Causalization, report) -> 
     initial = build_initial_problem(flat, alias, states, algebraics, alg,
                                     [system.origins[e] for e in causal.residual_equations],
                                     kept, observables, guesses)
-    expressions = ode + alg + [a.expr for a in kept] + [a.expr for a in observables] + initial.residuals
+    # Every parameter of the index-1 equations, also one that cancels from all of the above
+    # (`s * x = s * y` solved as x = y): the state-set monitor's pivots are derivatives of these
+    # equations and may hold it (a Body's equations scaled by a parameter, issue 25).
+    expressions = ode + alg + [a.expr for a in kept] + [a.expr for a in observables] + initial.residuals \
+        + list(system.equations)
     parameters = used_parameters(flat, expressions)
     return ReducedSystem(
         name=flat.name, states=states, ode=ode, algebraics=algebraics, alg=alg,

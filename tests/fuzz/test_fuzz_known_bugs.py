@@ -55,7 +55,7 @@ def _assert_located(outcome, path: str, line: int, words: str):
 
 
 def _bug(name: str, what: str):
-    """A strict xfail for a bug recorded in known_bugs.py under `name` (none is open now)."""
+    """A strict xfail for a bug recorded in known_bugs.py under `name` (one is open: linearize_non_finite)."""
     return pytest.mark.xfail(strict=True, reason=f"known bug {name}: {what}")
 
 
@@ -169,3 +169,41 @@ def test_a_huge_range_is_refused_before_unrolling(fuzz_base, old, new, line, wor
     outcome = run_in_subprocess(["check", path], work, seconds=SUBPROCESS_HANG_LIMIT_S)
     _assert_clear(outcome, SUBPROCESS_HANG_LIMIT_S)
     _assert_located(outcome, path, line, words)
+
+
+def test_a_sweep_whose_every_sample_fails_ends_with_an_error_line(fuzz_base):
+    """Found by fuzzing `dyadc sweep` (issue 25 item 4): every sample failed and the command
+    exited 1 with the summary only, no `error:` line. A velocity bound every sample leaves."""
+    work = example_dir(fuzz_base)
+    path = _oscillator_with(work, "variable v::Real(initial = 0.0)", "variable v::Real(initial = 0.0, min = -0.5)")
+    outcome = run_in_process(["sweep", path, "--stop", "1", "--points", "5", "-p", "k=[3,4]", "--serial",
+                              "--no-progress"], work)
+    _assert_clear(outcome, HANG_LIMIT_S)
+    assert outcome.status == 1, outcome.describe()
+    assert outcome.stderr.startswith("Oscillator: 0 of 2 samples succeeded, 2 failed\n"), outcome.describe()
+    assert outcome.stderr.splitlines()[-1] == "error: no sample of 2 succeeded (the reasons are above)"
+
+
+def test_a_capacitance_of_1e308_simulates(fuzz_base):
+    """Found by fuzzing `dyadc simulate` on branch meta25, before it landed: the derivative-rank
+    analysis with the capacitor's current replaced by C * der(v) met an infinite coefficient
+    (C = 1e308 times the capacitor's own), and numpy's least squares raised an internal
+    LinAlgError. Non-finite coefficients now leave the row out."""
+    from tests.fuzz.seeds import LIBRARY_RC
+    work = example_dir(fuzz_base)
+    text = LIBRARY_RC.text.replace("Capacitor(C = 1e-3)", "Capacitor(C = 1e308)")
+    assert text != LIBRARY_RC.text
+    outcome = run_in_process(["simulate", str(write_seed(work, LIBRARY_RC, text)), "--stop", "0.5", "--points", "5"], work)
+    _assert_clear(outcome, HANG_LIMIT_S)
+    assert outcome.status == 0, outcome.describe()
+
+
+@_bug("linearize_non_finite", "dyadc linearize with A holding inf: internal LinAlgError")
+def test_linearize_of_a_mass_that_underflows_to_zero_gives_a_clear_error(fuzz_base):
+    """Found by fuzzing `dyadc linearize` (issue 25 item 4): m = 1e-400 is 0, der(v) = -k x / m
+    makes A infinite and numpy's eigenvalues raise. Expected: a located error at the parameter."""
+    work = example_dir(fuzz_base)
+    path = _oscillator_with(work, "parameter m::Real = 1.0", "parameter m::Real = 1e-400")
+    outcome = run_in_process(["linearize", path], work)
+    _assert_clear(outcome, HANG_LIMIT_S)
+    assert outcome.status == 1 and is_located(outcome), outcome.describe()

@@ -31,6 +31,7 @@ from compiler.syntax import ast
 from compiler.syntax.format import format_file
 from compiler.syntax.parser import parse_file
 from tests.metamorphic.corpus import Base
+from tests.metamorphic.starts import StartContext
 
 FACTOR = 10.0
 FLOOR = 10.0
@@ -65,6 +66,25 @@ def run(path: Path, base: Base, *rtols: float) -> list[Outcome]:
             continue
         outcomes.append(Outcome({name: np.asarray(result[name], dtype=float) for name in result.names}, None))
     return outcomes
+
+
+def start_context(base: Base, outcome: Outcome, folder: Path) -> StartContext:
+    """What starts.initial_and_guess needs of the base: its values at the start (from its run)
+    and a test of a variant's initial system: it compiles, and fixes the same unknowns at their
+    start values as the base's does (`reduced.initial.chosen`), none more."""
+    if not outcome.ran:                  # a base that stops (SliderGuide, a partial model) moves nothing
+        return StartContext({}, lambda component: False)
+    starts = {name: float(values[0]) for name, values in outcome.values.items()}
+    chosen = dict(api.compile(str(base.path), lib_dirs=base.lib_dirs).reduced.initial.chosen)
+    checked = iter(range(10**6))
+
+    def determined(component: ast.ComponentDef) -> bool:
+        path = write_variant(base, component, folder / f"check{next(checked)}")
+        try:
+            return dict(api.compile(str(path), lib_dirs=base.lib_dirs).reduced.initial.chosen) == chosen
+        except DyadError:
+            return False
+    return StartContext(starts, determined)
 
 
 def _stopped(err: DyadError) -> Outcome:

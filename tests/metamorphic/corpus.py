@@ -43,6 +43,7 @@ BASES = (
     # hard cases
     _suite("Hard", "AndrewsSqueezer", 0.01, rtol=1e-8),
     _suite("Hard", "AndrewsSqueezerAccelerations", 0.01, rtol=1e-8),
+    _suite("Hard", "CarAxis", 1.0),
     _suite("Hard", "CartesianPendulum", 2.0),
     _suite("Hard", "PendulumA01", 2.0),
     _suite("Hard", "PendulumA01Sqrt", 2.0),

@@ -17,7 +17,7 @@ from tests.metamorphic.forms import PREFIX, Rewrite, leads_with_minus, printable
 from tests.metamorphic.restructure import (extract_subexpression, guess_forms, inline_auxiliaries, rename,
                                            reorder, start_forms)
 
-__all__ = ["PREFIX", "REWRITES", "Rewrite", "leads_with_minus", "printable", "rewrite"]
+__all__ = ["INTERFACE_KEEPING", "PREFIX", "REWRITES", "Rewrite", "leads_with_minus", "printable", "rewrite"]
 
 REWRITES = {
     "literal_kinds": literal_kinds, "inline_parameters": inline_parameters, "name_literals": name_literals,
@@ -28,14 +28,22 @@ REWRITES = {
 }
 
 
-def rewrite(component: ast.ComponentDef, seed: int, count: int = 3) -> tuple[Rewrite, list[str]]:
-    """`count` rewrites, each drawn (by `seed`) among those of REWRITES that apply to the result
-    of the one before: the rewritten component, the renaming, the names of the rewrites applied
-    (fewer than `count` only where none applies any more)."""
+# Rewrites that keep a definition's interface: what its users (a parent's modifications and
+# references like `capacitor.v`) see stays, so they apply inside a subcomponent's definition too.
+# Not: parameters inlined (a parent may modify them), auxiliaries inlined or variables renamed
+# (a parent may refer to them).
+INTERFACE_KEEPING = tuple(name for name in REWRITES if name not in ("inline_parameters", "inline_auxiliaries", "rename"))
+
+
+def rewrite(component: ast.ComponentDef, seed: int, count: int = 3,
+            allowed: tuple[str, ...] = tuple(REWRITES)) -> tuple[Rewrite, list[str]]:
+    """`count` rewrites, each drawn (by `seed`) among the `allowed` ones of REWRITES that apply to
+    the result of the one before: the rewritten component, the renaming, the names of the
+    rewrites applied (fewer than `count` only where none applies any more)."""
     rng = random.Random(seed)
     applied, renamed = [], {}
     for _ in range(count):
-        names = list(REWRITES)
+        names = list(allowed)
         rng.shuffle(names)
         for name in names:
             result = REWRITES[name](component, rng)

@@ -24,6 +24,20 @@ def D(name):
     return sympy.Symbol(f"der({name})")
 
 
+def capacitor_mirror_named(u0=0.0):
+    """capacitor_mirror with the second equation's derivatives named by an auxiliary variable,
+    a = y1' - y2' (the dependency on e1 hides behind a)."""
+    from compiler.model.flat import TIME
+    y1, y2, a, C, R0, R1, R2, Ub = (S(n) for n in "y1 y2 a C R0 R1 R2 Ub".split())
+    eqs = [a - (D("y1") - D("y2")),
+           C * (D("y1") - D("y2")) + (y1 - sympy.sin(TIME)) / R0,
+           -C * a + y2 * (1 / R1 + 1 / R2) - Ub / R2]
+    return build("MirrorNamed", [("y1", STATE_CANDIDATE, None, 0), ("y2", STATE_CANDIDATE, None, 0),
+                                 ("a", ALGEBRAIC, None, 0)],
+                 [("C", 1.0), ("R0", 1.0), ("R1", 2.0), ("R2", 2.0), ("Ub", 1.0)], eqs,
+                 initial=[y1 - y2 - u0], derivatives={"der(y1)": "y1", "der(y2)": "y2"})
+
+
 def cartesian_pendulum(x0=1.0, y0=0.0, L=1.0, g=9.81, redundant=False):
     x, y, u, v, T = (S(n) for n in "x y u v T".split())
     Ls, gs = S("L"), S("g")

@@ -124,6 +124,21 @@ def test_derivatives_in_linear_combinations_reveal_the_true_state_count():
     assert np.max(np.abs(result["y2"] - y2)) < 1e-8
 
 
+def test_a_dependency_hidden_behind_a_named_derivative_combination_is_found():
+    """The same circuit with `a = y1' - y2'` named and used in the mirror equation (the metamorphic
+    tests' TRANSAMP seed 0: index reduction failed): one state, the same solution, and a = u'."""
+    from tests.structure.flat_fixtures import capacitor_mirror_named
+    compilation = compile_flat(capacitor_mirror_named(u0=0.0))
+    assert compilation.model.state_names in (["y1"], ["y2"])      # not a: no derivative of it exists
+    assert compilation.report.counts["derivative-dependent equations combined"] == 1
+    result = runtime.simulate(compilation.model, 5.0, rtol=1e-10, atol=1e-10, points=51)
+    t = result.time
+    u = -0.5 + 0.2 * np.sin(t) - 0.4 * np.cos(t) + 0.9 * np.exp(-t / 2)
+    du = 0.2 * np.cos(t) + 0.4 * np.sin(t) - 0.45 * np.exp(-t / 2)
+    assert np.max(np.abs(result["y1"] - result["y2"] - u)) < 1e-8
+    assert np.max(np.abs(result["a"] - du)) < 1e-7
+
+
 def test_large_swings_switch_states_and_keep_the_constraint():
     """Released at 2 rad the bob passes the horizontal: no static state choice is valid."""
     from compiler.api import simulate_compiled

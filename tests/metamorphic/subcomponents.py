@@ -1,0 +1,59 @@
+"""Rewrites inside the definition of a subcomponent: a model of the corpus is run with one of the
+shipped library's components it instantiates (`resistor = ElectricalComponents.Resistor(...)`)
+written another way. The package is copied beside the run and linked with `-L`, which replaces
+the shipped package of its name (docs/compatibility.md); only rewrites that keep the
+definition's interface apply (rewrites.INTERFACE_KEEPING)."""
+from __future__ import annotations
+
+import dataclasses
+import random
+import shutil
+from pathlib import Path
+
+from compiler.syntax import ast
+from compiler.syntax.format import format_file
+from compiler.syntax.parser import parse_file
+from tests.metamorphic import rewrites
+from tests.metamorphic.corpus import LIBRARY
+
+
+@dataclasses.dataclass(frozen=True)
+class SubcomponentRewrite:
+    type_name: str           # the qualified name of the rewritten definition
+    lib_dir: Path            # the folder holding the rewritten package (for -L)
+    applied: list[str]       # the rewrites applied
+
+
+def library_definitions(component: ast.ComponentDef) -> list[tuple[str, Path]]:
+    """(qualified name, file) of each shipped-library definition `component` instantiates."""
+    found = set()
+    for d in component.declarations:
+        if isinstance(d, ast.ComponentDecl) and "." in d.type_name:
+            *package, name = d.type_name.split(".")
+            path = LIBRARY.joinpath(*package, f"{name}.dyad")
+            if path.is_file():
+                found.add((d.type_name, path))
+    return sorted(found)
+
+
+def rewrite_subcomponent(component: ast.ComponentDef, seed: int, folder: Path) -> SubcomponentRewrite | None:
+    """One library definition `component` instantiates, drawn by `seed`, rewritten (by `seed`) in
+    a copy of its package under `folder`; None where the model uses no library component or no
+    rewrite applies to the one drawn."""
+    candidates = library_definitions(component)
+    if not candidates:
+        return None
+    type_name, source = random.Random(seed).choice(candidates)
+    package = type_name.split(".")[0]
+    target = folder / "lib" / package
+    shutil.copytree(LIBRARY / package, target)
+    path = target / source.relative_to(LIBRARY / package)
+    file = parse_file(path)
+    name = type_name.split(".")[-1]
+    (definition,) = [d for d in file.definitions if isinstance(d, ast.ComponentDef) and d.name == name]
+    rewritten, applied = rewrites.rewrite(definition, seed, allowed=rewrites.INTERFACE_KEEPING)
+    if not applied:
+        return None
+    definitions = tuple(rewritten.component if d is definition else d for d in file.definitions)
+    path.write_text(format_file(dataclasses.replace(file, definitions=definitions)), encoding="utf-8")
+    return SubcomponentRewrite(type_name, folder / "lib", applied)
