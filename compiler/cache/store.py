@@ -115,14 +115,15 @@ def read_sealed(path: Path) -> bytes | None:
 
 
 @contextlib.contextmanager
-def folder_lock(folder: Path) -> Iterator[None]:
-    """An exclusive lock on `<folder>/.lock`, released by the kernel if this process dies."""
+def folder_lock(folder: Path, name: str = ".lock", shared: bool = False) -> Iterator[None]:
+    """A lock on `<folder>/<name>`, exclusive unless `shared` (held by any number of processes,
+    none of them while it is held exclusively); released by the kernel if this process dies."""
     if fcntl is None:
         yield
         return
-    descriptor = os.open(folder / ".lock", os.O_RDWR | os.O_CREAT, FILE_MODE)
+    descriptor = os.open(folder / name, os.O_RDWR | os.O_CREAT, FILE_MODE)
     try:
-        fcntl.flock(descriptor, fcntl.LOCK_EX)
+        fcntl.flock(descriptor, fcntl.LOCK_SH if shared else fcntl.LOCK_EX)
         yield
     finally:
         os.close(descriptor)

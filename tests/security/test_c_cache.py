@@ -112,19 +112,23 @@ def test_leftovers_of_a_killed_build_are_removed_by_the_next_build(tmp_path):
                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         deadline = time.monotonic() + 120
-        while not list(cache.glob("build-*/dyad_dae.c")) and time.monotonic() < deadline:
+        while not list(cache.glob("build-*/*.c")) and time.monotonic() < deadline:
             time.sleep(0.1)
     finally:
         os.killpg(killed.pid, signal.SIGKILL)
         killed.wait()
     leftovers = list(cache.glob("build-*"))
     assert leftovers and entries(cache) == []
-    (cache / ".dyad_0123.json.999.tmp").write_text("{")
-    (cache / "dyad_0123.so").write_bytes(b"\x7fELF")          # a library without its record
+    old = time.time() - c_cache.STALE_AFTER - 60      # another entry's leftovers, once stale
+    for name, text in ((".dyad_0123.json.999.tmp", "{"), ("dyad_0123.so", "\x7fELF")):
+        (cache / name).write_text(text)
+        os.utime(cache / name, (old, old))
+    (cache / "dyad_4567.so").write_text("\x7fELF")       # another entry's, maybe being built now
     check_run(run_dyadc(cache))
-    names = sorted(p.name for p in cache.iterdir())
-    [library] = entries(cache)
-    assert names == [".lock", library.with_suffix(".json").name, library.name]
+    names = {p.name for p in cache.iterdir()}
+    [library] = [e for e in entries(cache) if e.name != "dyad_4567.so"]
+    assert names == {".lock", library.with_suffix(".json").name, library.with_suffix(".lock").name,
+                     library.name, "dyad_4567.so"}
     assert_valid(cache, library)
 
 
@@ -132,7 +136,7 @@ def test_two_processes_building_one_entry_build_it_once(tmp_path):
     cache = tmp_path / "cache"
     log = tmp_path / "builds.log"
     counting = tmp_path / "counting-cc"
-    counting.write_text(f"#!/bin/sh\n[ \"$1\" = --version ] || echo build >> {log}\n"
+    counting.write_text(f"#!/bin/sh\n[ \"$1\" = -shared ] && echo build >> {log}\n"     # the link
                         f"exec {ccodegen.find_compiler()} \"$@\"\n")
     counting.chmod(0o755)
     env = dict(os.environ, DYADC_CACHE=str(cache), CC=str(counting))
