@@ -14,7 +14,10 @@ import os
 import shutil
 import tempfile
 
+import pytest
+
 from compiler.cache.c_libraries import C_CACHE_VARIABLE
+from compiler.cache.codegen_choice import CODEGEN_VARIABLE
 from compiler.cache.store import CACHE_DIR_VARIABLE, OFF_VALUES
 
 SESSION_C_CACHE = "DYADC_TEST_SESSION_C_CACHE"      # set by the process that made the shared folder
@@ -28,3 +31,17 @@ if os.environ.get(SESSION_C_CACHE) is None:
     _c_folder = tempfile.mkdtemp(prefix="dyadc-test-c-")
     os.environ[SESSION_C_CACHE] = os.environ[C_CACHE_VARIABLE] = _c_folder
     atexit.register(shutil.rmtree, _c_folder, True)
+
+
+@pytest.fixture(scope="module", params=["c", "vm"])
+def each_codegen(request):
+    """Run on compiled C (the default path) and again on CasADi's virtual machine (the path where no
+    C compiler exists): DYADC_CODEGEN set for the module's tests, and for the module-scoped fixtures
+    that take this one. A representative set uses it (events, state sets, the golden excavator, the
+    Test Set problems); every other numerical test runs on the default path alone."""
+    from compiler.lower.ccodegen import find_compiler
+    if request.param == "c" and find_compiler() is None:
+        pytest.skip("no C compiler")
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv(CODEGEN_VARIABLE, request.param)
+        yield request.param
