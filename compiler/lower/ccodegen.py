@@ -8,7 +8,7 @@ structurally zero), so anything that needs derivatives in t or p (sensitivities)
 model's CasADi functions instead. The per-point functions (`pointwise_functions`: the outputs and
 the polishing's Newton step on the algebraic equations) run in C too. Names of the model never
 reach the C code: every identifier in it is a fixed one of ours (dyad_dae, x, z, p, t). Why these
-choices and the flags (-O1): docs/cache.md, "C code". The libraries are built and kept by
+choices and the flags (-Og): docs/cache.md, "C code". The libraries are built and kept by
 compiler/cache/c_code.py.
 
 Every function the library holds is listed once, in `library_functions`: `c_source` writes them
@@ -29,14 +29,14 @@ import casadi as ca
 
 from compiler.runtime import CompiledModel, polishing
 
-COMPILE_FLAGS = ["-O1", "-fPIC"]
+COMPILE_FLAGS = ["-Og", "-fPIC"]
 LINK_FLAGS = ["-shared"]
 FLAGS = COMPILE_FLAGS + LINK_FLAGS          # one file compiled and linked in one go
 COMPILE_TIMEOUT = 600
 SOURCE_NAME = "dyad_dae.c"
 LIBRARY_NAME = "dyad_dae.so"
 # Jacobians of at least this many instructions are compiled in a process of their own (at about
-# 24 characters of C each, gcc -O1 takes 0.15-0.2 s for 1500; a file of a small model costs 0.08 s
+# 24 characters of C each, gcc takes 0.15-0.2 s for 1500; a file of a small model costs 0.08 s
 # of CPU in one process, 0.11 s in two)
 SPLIT_FROM = 1500
 _DIFFERENTIATED_INPUTS = ("x", "z")

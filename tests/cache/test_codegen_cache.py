@@ -101,3 +101,14 @@ def test_a_cached_model_links_every_state_set_library(tmp_path, monkeypatch):
         {k: v.native_library for k, v in built.model.variants.items()}
     assert all(v.metadata["codegen"] == "c" for v in cached.model.variants.values())
     assert native.linked_model(cached.model, cached.key, ccodegen.find_compiler()) is not None
+
+
+def test_the_choice_comes_from_the_caller_then_the_variable(monkeypatch):
+    from compiler.cache.codegen_choice import requested
+    monkeypatch.setenv("DYADC_CODEGEN", "VM ")
+    assert (requested(), requested("c")) == ("vm", "c")
+    monkeypatch.setenv("DYADC_CODEGEN", "fast")
+    with pytest.warns(ccodegen.CodegenWarning, match="DYADC_CODEGEN='fast' is neither 'c' nor 'vm'"):
+        assert requested() is None
+    monkeypatch.delenv("DYADC_CODEGEN")
+    assert requested() is None

@@ -13,6 +13,7 @@ import signal
 import stat
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -169,3 +170,36 @@ def test_a_cache_folder_of_another_user_is_refused(tmp_path, monkeypatch):
         model = compile_c(lower(systems.rc_circuit()), cache)
     assert model.native_library is None and model.metadata["codegen"] == "vm"
     assert list(cache.iterdir()) == []
+
+
+def test_two_entries_build_at_once_and_one_entry_once(tmp_path):
+    """A lock per entry: two threads building different libraries run side by side (each build
+    waits for the other to have started: one folder-wide lock would never let them), and a third
+    asking for a library being built waits for it and takes it."""
+    cache = tmp_path / "cache"
+    started = {key: threading.Event() for key in ("aa" * 8, "bb" * 8)}
+    builds = []
+
+    def build(key: str, other: str):
+        def make(scratch: Path) -> Path:
+            builds.append(key)
+            started[key].set()
+            assert started[other].wait(timeout=60), "the other entry's build never started"
+            (scratch / "lib.so").write_bytes(key.encode())
+            return scratch / "lib.so"
+        return make
+
+    (a, b), again = sorted(started), []
+    threads = [threading.Thread(target=lambda k=k, o=o: c_cache.fetch_or_build(cache, k, build(k, o)))
+               for k, o in ((a, b), (b, a))]
+    threads.append(threading.Thread(target=lambda: again.append(
+        c_cache.fetch_or_build(cache, a, lambda scratch: pytest.fail("built twice")))))
+    for thread in threads[:2]:
+        thread.start()
+    started[a].wait(timeout=60)
+    threads[2].start()
+    for thread in threads:
+        thread.join(timeout=120)
+    assert sorted(builds) == [a, b]
+    assert again == [(c_cache.library_path(cache, a), False)]
+    assert c_cache.library_path(cache, b).read_bytes() == b.encode()
