@@ -1,4 +1,5 @@
-"""The cache of compiled C libraries (`--codegen c`): one validated entry per content key.
+"""The cache of compiled C libraries (the default code of runs, native.py): one validated entry per
+content key.
 
 Folder: `c/` in the compilation cache (store.py: $DYADC_CACHE_DIR, else the user's
 cache directory), or $DYADC_CACHE when set (the older name, for this folder alone); made private

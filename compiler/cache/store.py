@@ -4,7 +4,7 @@ The folder is $DYADC_CACHE_DIR, else the user's cache directory (platformdirs: ~
 Linux, ~/Library/Caches/dyadc on macOS, %LOCALAPPDATA%\\dyadc\\Cache on Windows);
 DYADC_CACHE_DIR=off turns the cache off. It holds `models/` (compiled models and the manifests
 that find them), `parsed/` (trees of parsed source files, parsed.py) and `c/` (shared libraries
-of `--codegen c`, c_libraries.py).
+of compiled C, c_libraries.py).
 
 Every folder is private (0700, refused when owned by another user), every file 0600. A file is
 sealed: one JSON header line with the size and SHA-256 of the payload that follows. It is written

@@ -1,5 +1,6 @@
-"""`--codegen c`: the C source of a model's DAE, its Jacobian and the functions the runtime
-evaluates at every output point, and the C compiler run that turns it into a shared library.
+"""Compiled C (the code runs take by default; `--codegen c`): the C source of a model's DAE, its
+Jacobian and the functions the runtime evaluates at every output point, and the C compiler runs
+that turn it into a shared library.
 
 CasADi's CodeGenerator writes `dyad_dae(t, x, z, p, u) -> (ode, alg, quad, zero)` and its Jacobian
 `jac_dyad_dae`, which `casadi.external` finds in the same library by name: all IDAS needs. The
