@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import concurrent.futures
 import hashlib
+import os
 import subprocess
 import warnings
 from pathlib import Path
@@ -56,17 +57,18 @@ class CBuild:
         self._pool: concurrent.futures.ThreadPoolExecutor | None = None
 
     def start(self) -> "CBuild":
+        """Each part's C written, and its build started at once (while the next part's C is written)."""
         parts = {None: self.model, **self.model.variants}
+        # a build per core at a time (each runs one or two compiler processes of ~100 MB)
+        self._pool = concurrent.futures.ThreadPoolExecutor(max_workers=min(len(parts), os.cpu_count() or 1),
+                                                           thread_name_prefix="dyadc-cc")
         try:
-            units = {which: ccodegen.c_units(part) for which, part in parts.items()}
+            for which, part in parts.items():
+                sources = ccodegen.c_units(part)
+                self.keys[which] = cache_key(sources, self.compiler)
+                self.pending[which] = self._pool.submit(self._fetch_or_build, self.keys[which], sources)
         except (RuntimeError, ValueError) as err:       # CasADi cannot write C for a function
             self.problem = f"no C code for {self.model.name}: {err}"
-            return self
-        self._pool = concurrent.futures.ThreadPoolExecutor(max_workers=len(units),
-                                                           thread_name_prefix="dyadc-cc")
-        for which, sources in units.items():
-            self.keys[which] = cache_key(sources, self.compiler)
-            self.pending[which] = self._pool.submit(self._fetch_or_build, self.keys[which], sources)
         self._pool.shutdown(wait=False)
         return self
 
