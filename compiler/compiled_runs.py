@@ -33,7 +33,7 @@ def simulate_compiled(compilation: Compilation | CachedCompilation, stop: float,
                      progress=progress, integrator_options=integrator_options, max_step=max_step,
                      max_steps=max_steps, signals=signals, bounds=bounds)
     options = runtime.SimulationOptions(stop=stop, **arguments)
-    model = _on_its_code(compilation, codegen)
+    model = model_for_runs(compilation, codegen)
     if not hasattr(compilation, "flat"):
         return _simulate_cached(compilation, model, options, stop, arguments)
     # a model switches among its own variants, or those made from its universal system
@@ -44,9 +44,11 @@ def simulate_compiled(compilation: Compilation | CachedCompilation, stop: float,
     return _with_compile_times(result, compilation.timings, model)
 
 
-def _on_its_code(compilation: Compilation | CachedCompilation, codegen: str | None):
-    """The compilation's model on the code its runs take: the model itself when that was chosen,
-    else put on it once (kept with the model: the next run of the same compilation reuses it)."""
+def model_for_runs(compilation: Compilation | CachedCompilation, codegen: str | None):
+    """The model the runs of `compilation` take, on their code: the compilation's model itself when
+    its code was chosen, else a copy put on it once (kept with the model: every run of the same
+    compilation gets the same object, and what a run derives, say a state set made from the
+    universal system, is kept in it for the next)."""
     from compiler.cache.codegen_choice import requested
     model = compilation.model
     current = model.metadata.get("codegen")
