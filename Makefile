@@ -3,16 +3,22 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
+NATIVE_IDAS := $(VENV)/lib/dyadc/libdyadidas.so
 
 .PHONY: install run test fuzz bench generate clean compat
 
-install: $(STAMP)
+install: $(STAMP) $(NATIVE_IDAS)
 
 $(STAMP): pyproject.toml setup.py
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -e '.[dev]'
 	touch $(STAMP)
+
+# The native IDAS driver (compiler/native/build.py: SUNDIALS from a pinned source package, gcc).
+# Where it cannot be built (no compiler, no network) it says why and runs use CasADi's IDAS.
+$(NATIVE_IDAS): $(STAMP) $(wildcard compiler/native/dyad_idas*) compiler/native/build.py
+	$(BIN)/python -m compiler.native.build || true
 
 run: install
 	$(BIN)/python -c "from compiler.render.scene_outputs import write_scene_outputs; print(*write_scene_outputs('out'), sep='\n')"

@@ -42,7 +42,8 @@ def _timed(spent: dict, label: str, function):
 def compile_rows(sizes: list[int]):
     from suite.chain_model import write_chain
     from compiler.model.flatten import flatten_resolved
-    from compiler.model.library import Library, resolve_model
+    from compiler.model.library import Library
+    from compiler.model.model_spec import resolve_model
     from compiler.pipeline import compile_flat
     from compiler.syntax.parser import parse_file
 

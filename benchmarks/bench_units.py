@@ -30,7 +30,7 @@ print(json.dumps({"seconds": time.perf_counter() - began, "cpu": time.process_ti
 CHECK_ONLY = r'''
 import json, sys, time
 from compiler.model.instantiate import instantiate
-from compiler.model.library import resolve_model
+from compiler.model.model_spec import resolve_model
 from compiler.pipeline import _library
 from compiler.units.check import check_units
 library = _library(())

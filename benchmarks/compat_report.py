@@ -6,7 +6,9 @@ import collections
 import re
 from datetime import datetime, timezone
 
-from compat_explained import explanation, value_explanation
+from compat_explained import explanation
+from compat_report_explained import explained, explained_sections, run_explained, \
+    value_explained
 
 TARGETS = {"parsed": 1.0, "checked": 0.9, "simulated": 0.8, "matched": 0.8}
 STAGE_TITLES = {
@@ -55,9 +57,9 @@ def failures(results: list[dict]) -> list[tuple[str, str, str]]:
                 out.append(("check", component["reason"], path))
         for run in result["runs"]:
             if not run["simulated"]:
-                if result["parsed"] and not _run_explained(path, run):
+                if result["parsed"] and not run_explained(path, run):
                     out.append(("simulate", run["reason"], path))
-            elif run["matched"] is False and not _value_explained(path, run):
+            elif run["matched"] is False and not value_explained(path, run):
                 out.append(("match", run["reason"], path))
             if run.get("test_refused"):
                 out.append(("test-format", run["test_refused"], path))
@@ -80,32 +82,6 @@ def group(failed: list[tuple[str, str, str]]) -> dict[str, list[dict]]:
             for stage, entries in by_stage.items()}
 
 
-def explained(results: list[dict]) -> list[tuple[str, dict, str]]:
-    """(file, component entry, culprit) of the components that fail because the published source
-    is inconsistent (benchmarks/compat_explained.py)."""
-    out = []
-    for result in results:
-        for component in result["components"]:
-            if component["verdict"] == "fail" and result["parsed"]:
-                culprit = explanation(result["file"], component["name"], component["reason"])
-                if culprit:
-                    out.append((result["file"], component, culprit))
-    return out
-
-
-def _run_explained(path: str, run: dict) -> str | None:
-    """The culprit when a run fails because its component's published source is inconsistent."""
-    return None if run["simulated"] else explanation(path, run["name"].split(".")[0], run["reason"])
-
-
-def _value_explained(path: str, run: dict):
-    """The reviewed independent value when a simulated test case misses a published value that
-    an independent calculation shows wrong (compat_explained.EXPLAINED_VALUES), else None."""
-    if run["kind"] != "test" or not run["simulated"] or run["matched"]:
-        return None
-    return value_explanation(path, run["name"], run["reason"])
-
-
 def totals(results: list[dict]) -> dict[str, tuple[int, int]]:
     components = [c for r in results for c in r["components"]]
     runs = [run for r in results for run in r["runs"]]
@@ -121,19 +97,19 @@ def totals(results: list[dict]) -> dict[str, tuple[int, int]]:
         "checked_or_explained": (sum(c["verdict"] != "fail" for c in components)
                                  + len(explained(results)), len(components)),
         "simulated": (sum(run["simulated"] for run in runs), len(runs)),
-        "runs_explained": (sum(bool(_run_explained(r["file"], run)) for r in results
+        "runs_explained": (sum(bool(run_explained(r["file"], run)) for r in results
                                for run in r["runs"] if r["parsed"]), len(runs)),
         "matched": (sum(bool(run["matched"]) for run in with_values), len(with_values)),
-        "values_explained": (sum(bool(_value_explained(r["file"], run)) for r in results
+        "values_explained": (sum(bool(value_explained(r["file"], run)) for r in results
                                  for run in r["runs"]), len(with_values)),
-        "matched_or_explained": (sum(bool(run["matched"] or _value_explained(r["file"], run))
+        "matched_or_explained": (sum(bool(run["matched"] or value_explained(r["file"], run))
                                      for r in results for run in r["runs"] if run["kind"] == "test"),
                                  len(with_values)),
         "matched_or_analysis": (sum(bool(run["matched"]) if run["kind"] == "test"
                                     else run["simulated"] for run in runs), len(runs)),
         # issue 17's target: every run simulates, and a test case matches or its published
         # value is shown wrong independently
-        "target_runs": (sum(bool(run["matched"] or _value_explained(r["file"], run)) if run["kind"] == "test"
+        "target_runs": (sum(bool(run["matched"] or value_explained(r["file"], run)) if run["kind"] == "test"
                             else bool(run["simulated"]) for r in results for run in r["runs"] if r["parsed"]),
                         len(runs)),
     }
@@ -221,8 +197,9 @@ def markdown(results: list[dict], libraries: list, command: str, seconds: float,
         "these checks\"), counted on its own line below. "
         "A component that fails because its published source is inconsistent "
         "(unbalanced, mis-sized, naming something undefined) counts as *explained* when a reviewed "
-        "entry of benchmarks/compat_explained.py names the culprit and dyadc's error still says "
-        "what that entry expects; explained components are listed with their culprit and are "
+        "entry of benchmarks/compat_explained.py names the culprit and the published line at "
+        "fault (checked against Dyad's documentation) and dyadc's error still says what that "
+        "entry expects; explained components are listed with their culprit and line and are "
         "not counted as checked. "
         "Components of a file that does not parse count as not checked (not listed again below).",
         "- **runs**: every case of a component's `\"tests\"` metadata and every (non-`partial`) "
@@ -236,7 +213,7 @@ def markdown(results: list[dict], libraries: list, command: str, seconds: float,
         "dyadc has that command, else `dyadc simulate` of its model with its stop time and its "
         "numeric parameter overrides. A test case that simulates but misses a published value "
         "counts as *explained* (not as matched) when a reviewed entry of "
-        "benchmarks/compat_explained.py gives that value's independent calculation (closed form "
+        "benchmarks/compat_explained_values.py gives that value's independent calculation (closed form "
         "or our own ODE integration of the case's system, recomputed by tests/compat/), the "
         "independent value lies outside the case's tolerance around the published one, and "
         "dyadc's value agrees with it (within the case's tolerance, or 1e-8 relative).",
@@ -288,26 +265,7 @@ def markdown(results: list[dict], libraries: list, command: str, seconds: float,
                                            sub["matched"], sub["unit_findings"])]
         lines.append(f"| {lib.package} | " + " | ".join(cells) + " |")
     lines += unit_section(results)
-    lines += ["", "## Components whose published source is inconsistent (explained)", "",
-              "Reviewed by hand against dyadc's diagnosis; the culprit is in our words.", "",
-              "| component | file | culprit | dyadc's first error line (normalised) |",
-              "| --- | --- | --- | --- |"]
-    for path, component, culprit in explained(results):
-        lines.append(f"| {component['name']} | {path} | {culprit.replace('|', chr(92) + '|')} | "
-                     f"{normalise(component['reason']).replace('|', chr(92) + '|')} |")
-    lines += ["", "## Published test values shown wrong by an independent calculation (explained)",
-              "", "Reviewed entries of benchmarks/compat_explained.py, each recomputed by "
-              "tests/compat/; the report sees a case's first mismatch.", "",
-              "| test case | file | signal | published | dyadc | independent | method |",
-              "| --- | --- | --- | --- | --- | --- | --- |"]
-    for r in results:
-        for run in r["runs"]:
-            value = _value_explained(r["file"], run)
-            if value:
-                dyadc = re.search(r"got (\S+),", run["reason"])[1]
-                lines.append(f"| {run['name']} | {r['file']} | `{value.signal}` | "
-                             f"{value.published:.10g} | {dyadc} | {value.independent:.10g} | "
-                             f"{value.method.replace('|', chr(92) + '|')} |")
+    lines += explained_sections(results, normalise)
     lines += ["", "## Failure classes", ""]
     for stage, title in STAGE_TITLES.items():
         entries = grouped.get(stage, [])

@@ -60,3 +60,16 @@ def linearize(model_spec: str, *, inputs: Sequence[str] = (), outputs: Sequence[
     request = Request(inputs=tuple(inputs), outputs=tuple(outputs), at=at, steady=steady,
                       op=dict(op or {}), params=dict(params or {}), opened=tuple(opened), minimal=minimal)
     return linearize_spec(model_spec, request, lib_dirs, cache=cache)
+
+
+def export_fmu(model_spec: str, output: str, *, lib_dirs: Sequence[str] = (),
+               params: Mapping[str, float] | None = None, fmi: int = 2, kind: str = "me",
+               stop_time: float | None = None, units: str | None = None):
+    """Write `model_spec` as an FMU (FMI 2.0; `kind` "me": Model Exchange, "cs": Co-Simulation)
+    to `output` and return its path: free inputs are its inputs, `params` start values of its
+    parameters (docs/fmu.md)."""
+    from compiler.fmu.export import export_fmu as export
+    from compiler.units.mode import units_mode
+    with units_mode(units):
+        return export(model_spec, output, lib_dirs=lib_dirs, params=params, fmi=fmi, kind=kind,
+                      stop_time=stop_time)

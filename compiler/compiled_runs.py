@@ -18,20 +18,21 @@ def simulate_compiled(compilation: Compilation | CachedCompilation, stop: float,
                       params: Mapping[str, float] | None = None, progress: bool | None = None,
                       integrator_options: Mapping | None = None, max_step: float | None = None,
                       max_steps: int = 100000, signals: Sequence[str] | None = None,
-                      bounds: str = "warn", codegen: str | None = None) -> runtime.Result:
+                      bounds: str = "warn", integrator=None, codegen: str | None = None) -> runtime.Result:
     """Run a compilation through the runtime's one driver (with the state-set switcher when its
     state set may have to change); failures become located DyadErrors. `integrator_options` go to
     CasADi's IDAS interface, e.g. {"suppress_algebraic": False} to keep the algebraic unknowns in
     the error test (default: suppressed, see compiler/runtime/idas.py). `bounds`: a declared
     min/max the run leaves gives a BoundWarning and the run goes on ("warn"), or stops it with a
-    located error ("error"). The model runs on the code chosen for it (compiler/cache/native.py:
-    compiled C where a C compiler is present, built now if need be; `codegen` "c" or "vm" asks for
-    one), reported as `result.stats["codegen"]`. A compilation from the
+    located error ("error"). `integrator`: what makes the run's integrators (SimulationOptions;
+    compiler.native.make_integrator for the native IDAS driver). The model runs on the code chosen
+    for it (compiler/cache/native.py: compiled C where a C compiler is present, built now if need
+    be; `codegen` "c" or "vm" asks for one), reported as `result.stats["codegen"]`. A compilation from the
     cache runs its model alone; where a located error needs the sources (a parameter without a
     value, a failure at the start), the model is compiled from them and the run repeated."""
     arguments = dict(start=start, rtol=rtol, atol=atol, points=points, saveat=saveat, params=params,
                      progress=progress, integrator_options=integrator_options, max_step=max_step,
-                     max_steps=max_steps, signals=signals, bounds=bounds)
+                     max_steps=max_steps, signals=signals, bounds=bounds, integrator=integrator)
     options = runtime.SimulationOptions(stop=stop, **arguments)
     model = model_for_runs(compilation, codegen)
     if not hasattr(compilation, "flat"):

@@ -46,7 +46,8 @@ def flatten_spec(spec: str, lib_dirs: Sequence[str] = (), *,
                  library: Library | None = None) -> tuple[FlatSystem, dict[str, float]]:
     """`library`: the one to read sources with (default: a new Library on `lib_dirs`)."""
     from compiler.model.flatten import flatten_resolved
-    from compiler.model.library import Library, resolve_model
+    from compiler.model.library import Library
+    from compiler.model.model_spec import resolve_model
     began = time.perf_counter()
     library = Library(lib_dirs) if library is None else library
     flat = flatten_resolved(resolve_model(spec, library), library)

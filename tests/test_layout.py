@@ -26,6 +26,7 @@ ROOT = PACKAGE.parent
 # compiler, and the model's balance checks use them before the structure stage runs.
 LAYERS = (
     ("errors", "runtime", "compiler"),
+    ("native",),
     ("syntax",),
     ("julia",),
     ("structure.graph",),

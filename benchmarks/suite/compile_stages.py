@@ -28,7 +28,8 @@ from compiler import runtime  # noqa: E402
 from compiler.cache.c_code import build_library
 from compiler.lower import ccodegen
 from compiler.model.flatten import flatten_resolved  # noqa: E402
-from compiler.model.library import Library, resolve_model  # noqa: E402
+from compiler.model.library import Library  # noqa: E402
+from compiler.model.model_spec import resolve_model  # noqa: E402
 from compiler.pipeline import compile_flat  # noqa: E402
 from compiler.syntax.parser import parse_file  # noqa: E402
 

@@ -21,7 +21,8 @@ from typing import Any, Mapping
 from compiler.analysis.expressions import AnalysisValues, substitute, text
 from compiler.errors import DyadError, Span, suggest_name
 from compiler.model.expressions import Lexical
-from compiler.model.library import Library, Resolved, parse_spec_file, qualify, split_file_spec
+from compiler.model.library import Library, Resolved, qualify
+from compiler.model.model_spec import parse_spec_file, split_file_spec
 from compiler.syntax import ast
 
 TRANSIENT = "TransientAnalysis"

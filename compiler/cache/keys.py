@@ -7,8 +7,9 @@ own package (so an edited checkout never reuses a stale model), CasADi's and Pyt
 third is only known after a compile, which records it as a list of *inputs*:
 
   ("file", path)      the SHA-256 of a .dyad file the library read (parsed or only scanned);
-  ("folder", path)    the sorted .dyad names in a folder the library searched for a name (a file
-                      added there could now define it), or "absent";
+  ("folder", path)    the sorted .dyad and subfolder names in a folder the library searched for a
+                      name (a file added there could now define it, a subpackage added there
+                      could make a flat path an alias or ambiguous), or "absent";
   ("plugin", path)    the SHA-256 of a dyad_functions.py the library looked for, or "absent";
   ("julia", path)     the names and SHA-256s of the Julia sources of a package folder it read.
 
@@ -85,7 +86,8 @@ def fingerprint(kind: str, path: str) -> str:
         if kind == "folder":
             if not target.is_dir():
                 return ABSENT
-            return hash_text(*sorted(p.name for p in target.iterdir() if p.name.endswith(".dyad")))
+            return hash_text(*sorted(p.name + ("/" if p.is_dir() else "") for p in target.iterdir()
+                                     if p.name.endswith(".dyad") or p.is_dir()))
         if kind == "julia":
             return _julia_fingerprint(target)
         if kind in ("file", "plugin"):

@@ -47,6 +47,7 @@ FAMILIES = (
     ("cache", ("cache",)),
     ("generate", ("generate",)),
     ("linear", ("linearize",)),
+    ("fmu", ("fmu",)),
 )
 COMMANDS = tuple(command for _, commands in FAMILIES for command in commands)
 

@@ -37,6 +37,9 @@ def add_simulate(sub) -> None:
                    help="the code the model's functions run on: c (compiled with gcc before the first "
                         "run, kept in the cache) or vm (CasADi's virtual machine); default: c where a C "
                         "compiler is present ($DYADC_CODEGEN may say otherwise)")
+    p.add_argument("--integrator", choices=["casadi", "native"], default="casadi",
+                   help="IDAS through CasADi (default), or the native IDAS driver built by `make "
+                        "install` (needs the model on C; otherwise CasADi's, with a warning)")
     p.add_argument("--no-cache", action="store_true",
                    help="compile from source and store nothing (docs/cache.md; or DYADC_CACHE_DIR=off)")
     p.add_argument("--keep-partial", action="store_true",
@@ -88,7 +91,8 @@ def run_simulate(args) -> int:
         result = simulate_compiled(compilation, args.stop, start=args.start, rtol=args.rtol,
                                    atol=args.atol, points=args.points,
                                    saveat=None if saveat is None else saveat.grid(), params=params,
-                                   bounds="error" if args.strict_bounds else "warn")
+                                   bounds="error" if args.strict_bounds else "warn",
+                                   integrator=_integrator(args.integrator))
     except SimulationError as failure:
         if args.keep_partial and args.output and failure.partial is not None:
             partial = _partial_path(args.output)
@@ -114,6 +118,14 @@ def code_named(stats: dict) -> str:
     if stats.get("codegen") == "c":
         return "in C"
     return "on the VM" + (f" ({stats['codegen_why']})" if stats.get("codegen_why") else "")
+
+
+def _integrator(name: str):
+    """What makes the run's integrators for --integrator NAME (None: the runtime's default)."""
+    if name == "native":
+        from compiler.native import make_integrator
+        return make_integrator
+    return None
 
 
 def _partial_path(output: str) -> str:

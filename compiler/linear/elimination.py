@@ -63,6 +63,11 @@ class EliminatedSystem:
         whole = ca.jacobian(ca.vertcat(ode, alg, y), ca.vertcat(x, z, u))
         return ca.Function("eliminated_jacobians", [x, z, p, t], [ode, alg, y, whole])
 
+    def function(self) -> ca.Function:
+        """(x, z, p, t) -> (ode, alg, y, d(ode; alg; y) / d(x; z; u)): what the Jacobians are
+        made of, for callers that evaluate it elsewhere (an FMU's C code, compiler/fmu/)."""
+        return self._function
+
     def solve_algebraic(self, x: np.ndarray, p: np.ndarray, t: float, z_guess: np.ndarray,
                         tol: float = 1e-12, max_iterations: int = 50) -> np.ndarray:
         """z with g(x, z, p, t) = 0 by Newton with the exact Jacobian g_z, from `z_guess`."""

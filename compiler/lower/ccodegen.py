@@ -28,7 +28,7 @@ from pathlib import Path
 
 import casadi as ca
 
-from compiler.runtime import CompiledModel, polishing
+from compiler.runtime import CompiledModel, polishing, watches
 
 COMPILE_FLAGS = ["-Og", "-fPIC"]
 LINK_FLAGS = ["-shared"]
@@ -90,10 +90,21 @@ def pointwise_functions(model: CompiledModel) -> list[ca.Function]:
                         ca.Function(names["algebraic_residual"], [x, z, p, t], [alg])]
 
 
+def watch_functions(model: CompiledModel) -> list[ca.Function]:
+    """`dyad_watch(x, z, p, t, atol)`: the zero functions a run watches (runtime/watches.py, the
+    same rows in the same order), for the root finding of the native IDAS driver (compiler/native),
+    which calls it from C; `atol` is an input because the bounds' slack depends on the run's
+    absolute tolerance. None of it for a model that watches nothing."""
+    x, z, p, t = symbols = model.symbols()
+    atol = ca.SX.sym("atol")
+    rows, labels = watches.watched_rows(model, symbols, atol)
+    return [ca.Function("dyad_watch", [x, z, p, t, atol], [rows])] if labels else []
+
+
 def library_functions(model: CompiledModel) -> list[ca.Function]:
     """Every function of the model's C library, the DAE first (the one place to add one)."""
     dae = dae_function(model)
-    return [dae, state_jacobian(dae), *pointwise_functions(model)]
+    return [dae, state_jacobian(dae), *pointwise_functions(model), *watch_functions(model)]
 
 
 def _generated(name: str, functions: list[ca.Function]) -> str:

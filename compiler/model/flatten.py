@@ -22,7 +22,8 @@ from compiler.model.flatten_report import format_flat, summarize  # noqa: F401  
 from compiler.model.flatten_state import FlattenState
 from compiler.model.flatten_variables import flat_variables, variable_equations
 from compiler.model.instantiate import Model, instantiate
-from compiler.model.library import Library, Resolved, load_model, resolve_model  # noqa: F401
+from compiler.model.library import Library, Resolved  # noqa: F401
+from compiler.model.model_spec import definitions_under, load_model, resolve_model  # noqa: F401
 from compiler.model.collection import fewer_collections
 from compiler.syntax import ast
 
@@ -83,7 +84,7 @@ def check_library(root_dir: str) -> list[str]:
     from pathlib import Path
     library = Library([root_dir])
     unparsed: list[DyadError] = []          # every file that does not parse is reported
-    definitions = library.definitions_under(Path(root_dir), unparsed)
+    definitions = definitions_under(library, Path(root_dir), unparsed)
     lines = [err.format() for err in unparsed]
     for resolved in definitions:
         definition = resolved.definition

@@ -30,19 +30,22 @@ def check_inputs(state: FlattenState, nodes: list[Instance], driven: dict[str, b
             if variable.causality != "input":
                 continue
             owner = owner_of(variable)
-            if owner is state.root or driven.get(variable.path):
+            undriven = [name for name in variable.names if not driven.get(name)]
+            if owner is state.root or driven.get(variable.path) or not undriven:
                 continue
             if used_outside is None:
                 used_outside = _symbol_origins(state)
             origins = set()
-            for name in variable.names:
+            for name in undriven:
                 origins |= used_outside.get(name, set())
             if any(not _inside(path, owner.path) for path in origins):
                 continue
+            # an array some of whose elements are connected: name the first element left over
+            path = undriven[0] if len(undriven) < len(variable.names) else variable.path
             raise DyadError(
-                f"input `{variable.path}` is not connected and no equation gives it a value",
+                f"input `{path}` is not connected and no equation gives it a value",
                 owner.decl_span,
-                hint=f"connect it to an output, or write `{variable.path} = ...` in the "
+                hint=f"connect it to an output, or write `{path} = ...` in the "
                      f"enclosing component",
                 notes=[Note(f"`{variable.name}` is declared here", variable.span)])
 

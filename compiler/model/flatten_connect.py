@@ -34,13 +34,40 @@ class Element:
 
     @property
     def is_signal(self) -> bool:
-        return isinstance(self.target, VariableInstance)
+        return isinstance(self.target, (VariableInstance, SignalElements))
 
     @property
     def is_source(self) -> bool:
         causality = self.target.causality
         return (self.side == INSIDE and causality == "output") or \
                (self.side == OUTSIDE and causality == "input")
+
+
+@dataclass(frozen=True)
+class SignalElements:
+    """Some elements of an array signal, connected on their own: `m.u[2]` of a signal connector
+    array `u = [RealInput() for i in 1:n]` (or of `input u::Real[n]`)."""
+    variable: VariableInstance
+    path: str                         # `m.u[2]`, as written
+    symbols: Any                      # the element's symbol, or an array of them
+    names: tuple[str, ...]
+
+    @property
+    def causality(self) -> str | None:
+        return self.variable.causality
+
+    @property
+    def shape(self) -> tuple[int, ...]:
+        return getattr(self.symbols, "shape", ())
+
+
+def _signal_elements(variable: VariableInstance, part: ast.RefPart, scope: EvalScope,
+                     span: Span | None) -> SignalElements:
+    picked = apply_indices(variable.symbols, part.indices, variable.path, scope, span)
+    names = tuple(str(s) for s in picked.ravel()) if hasattr(picked, "ravel") else (str(picked),)
+    path = names[0] if len(names) == 1 and not hasattr(picked, "ravel") else \
+        f"{variable.path}[{', '.join(names)}]"
+    return SignalElements(variable, path, picked, names)
 
 
 @dataclass
@@ -73,13 +100,10 @@ def resolve_connector(ref: ast.Ref, scope: EvalScope) -> Any:
             if k != last:
                 raise DyadError(f"`{walked}` is a variable; cannot access `.{ref.parts[k + 1].name}`",
                                 ref.span)
-            if part.indices:
-                raise DyadError("connecting single elements of an array signal is not supported",
-                                ref.span)
             if not (variable.is_signal or variable.connector_kind == "signal"):
                 raise DyadError(f"`{ref.dotted}` is a variable, not a connector; write an "
                                 f"equation instead", ref.span)
-            return variable
+            return _signal_elements(variable, part, scope, ref.span) if part.indices else variable
         child = current.children.get(part.name)
         if child is None:
             from compiler.errors import suggest_name
@@ -95,13 +119,13 @@ def resolve_connector(ref: ast.Ref, scope: EvalScope) -> Any:
 
 
 def _layout(target: Any) -> tuple:
-    if isinstance(target, VariableInstance):
+    if isinstance(target, (VariableInstance, SignalElements)):
         return ("signal", target.shape)
     return tuple(sorted((v.name, v.connector_kind, v.shape) for v in target.variables.values()))
 
 
 def _describe(target: Any) -> str:
-    if isinstance(target, VariableInstance):
+    if isinstance(target, (VariableInstance, SignalElements)):
         return f"signal {target.causality or ''}".strip()
     return f"connector {target.resolved.name}"
 
@@ -239,6 +263,8 @@ def _signal_equations(group: ConnectSet, driven: dict[str, bool]) -> list[Equati
     out = []
     for element in group.elements:
         driven[element.target.path] = bool(sources)
+        for name in element.target.names:
+            driven[name] = driven.get(name, False) or bool(sources)
         if element is reference:
             continue
         for residual in _pairs(reference.target.symbols, element.target.symbols):

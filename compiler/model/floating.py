@@ -27,6 +27,7 @@ REFERENCES = {
     "Frame2D": "`Fixed` or `World` (fixes x, y and phi)",
     "HydraulicPort": "a pressure source such as `PressureSource` (fixes p)",
     "HeatPort": "`FixedTemperature` (fixes T)",
+    "Node": "`FixedTemperature` (fixes T)",
 }
 
 

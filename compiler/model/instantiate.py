@@ -15,7 +15,7 @@ from typing import Any, Callable
 import numpy as np
 
 from compiler.errors import DyadError, Note, Span, suggest_name
-from compiler.model import object_values, replaceable, structs
+from compiler.model import object_values, replaceable, signal_arrays, structs
 from compiler.model.expressions import EvalScope, Lexical, Mode, evaluate, iteration_values, \
     structural_bool
 from compiler.model.instances import Instance, Model, check_not_recursive, scalar_count
@@ -130,13 +130,12 @@ def _add_component(node: Instance, element: ElementTemplate, entries: list[Bound
     definition = resolved.definition
     own_scope = node.scope(lex)
     if isinstance(definition, ast.SignalConnectorDef):
-        if decl.iterators:
-            raise DyadError("arrays of signal connectors are declared with a sized type, not a "
-                            "comprehension", decl.span)
+        value_type = signal_arrays.array_type(decl, definition, own_scope) if decl.iterators \
+            else definition.type
         own = [BoundMod(normalize(m), own_scope) for m in decl.modifications]
         signal_lex = Lexical(model.library, resolved.package, resolved.file)
         variable = VariableInstance(
-            node, decl.name, decl, definition.type, signal_lex,
+            node, decl.name, decl, value_type, signal_lex,
             _as_attribute_entries(decl.name, entries, own), causality=definition.causality,
             connector_kind="signal", doc=decl.doc)
         node.variables[decl.name] = variable

@@ -186,3 +186,20 @@ def describe(roots: Sequence[Root]) -> str:
     """`path (origin), ...` for error messages."""
     return ", ".join(f"{root.path} ({root.origin})" for root in roots)
 
+
+
+def project_dependencies(text: str, project: Path, package: str) -> set[str] | None:
+    """The [deps] names of package `package`'s Project.toml (`text`, read from `project`), or
+    None when it has none or declares no [deps]; TOML it cannot read is a located error."""
+    if not text:
+        return None
+    import tomllib
+    try:
+        deps = tomllib.loads(text).get("deps")
+    except tomllib.TOMLDecodeError as err:
+        at = re.search(r"at line (\d+), column (\d+)", str(err))
+        line, column = (int(at[1]), int(at[2])) if at else (1, 1)
+        raise DyadError(f"package `{package}` has a {PROJECT_FILE} that is not TOML: "
+                        f"{str(err).split(' (at ')[0]}", Span(str(project), line, column, line, column),
+                        hint="its [deps] table lists the packages it may name") from None
+    return set(deps) if isinstance(deps, dict) else None

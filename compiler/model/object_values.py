@@ -17,25 +17,26 @@ the call stays opaque as before: enough for `dyadc check`, refused by a run.
 
 - `DyadDataset(...)`: compiler/model/datasets.py; `LinearInterpolation`, ... : the kinds of
   compiler/model/interpolation.py;
-- `dataset_interpolation(kind, dataset)`: the interpolation of the dataset's one dependent
-  variable over its independent one (BlockComponents' Julia helper of that name, whose meaning
-  dyadc implements itself), and `Kind(values, times)` directly;
+- `dataset_interpolation(...)` in each of its forms and `Kind(values, times)` directly:
+  compiler/model/interpolation_values.py (BlockComponents' Julia helper of that name, whose
+  meaning dyadc implements itself);
 - a name of another such parameter: its value, in the scope that binding was written in.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, Callable
 
-from compiler.errors import DyadError, Note, Span
+from compiler.errors import DyadError, Span
 from compiler.julia.objects import Evaluator, opaque, path_field_of
-from compiler.model import datasets, interpolation
-from compiler.model.interpolation import KINDS, InterpolationError, InterpolationKind, \
-    PiecewisePolynomial
+from compiler.model import datasets, interpolation, interpolation_values
+from compiler.model.interpolation import KINDS, InterpolationKind, PiecewisePolynomial
 from compiler.syntax import ast
 
-_DATASET_FUNCTIONS = ("DyadDataset", "DyadData.DyadDataset")
+# DyadData's time series takes the same arguments as its dataset (help.juliahub.com, "Working
+# with Data"): a file, `independent_var` and `dependent_vars`.
+_DATASET_FUNCTIONS = ("DyadDataset", "DyadData.DyadDataset", "DyadTimeseries",
+                      "DyadData.DyadTimeseries")
 _INTERPOLATE_FUNCTION = "dataset_interpolation"
 
 Structural = Callable[[ast.Expr, Any], Any]     # a compile-time value of an expression in a scope
@@ -127,9 +128,10 @@ def evaluate_object(expr: ast.Expr, scope: Any, structural: Structural) -> Any:
         if function in _DATASET_FUNCTIONS:
             return _dataset(expr, scope, structural)
         if function.rpartition(".")[2] == _INTERPOLATE_FUNCTION:
-            return _dataset_interpolation(expr, scope, structural)
+            return interpolation_values.dataset_interpolation(expr, scope, structural,
+                                                              evaluate_object)
         if function in KINDS and function not in scope.node.member_names():
-            return _direct_interpolation(expr, scope, structural)
+            return interpolation_values.direct_interpolation(expr, scope, structural)
     return None
 
 
@@ -172,10 +174,8 @@ def _dataset(call: ast.Call, scope: Any, structural: Structural) -> datasets.Dat
                         f"name), got {len(call.args)} arguments", call.span)
     value = structural(call.args[0], scope)
     if isinstance(value, str):
-        library = scope.lexical.library
-        path = datasets.locate(value, call.span, list(getattr(library, "roots", [])))
-        _note_read(library, datasets.candidates_read(value, call.span) + [path])
-        return datasets.from_csv(path, independent, dependent, call.span)
+        return interpolation_values.read_file_dataset(value, independent, dependent, scope,
+                                                      call.span)
     return datasets.from_matrix(value, independent, dependent, call.span)
 
 
@@ -194,70 +194,3 @@ def _strings(expr: ast.Expr, scope: Any, structural: Structural) -> tuple[str, .
                  for element in expr.elements)
 
 
-def _note_read(library: Any, paths: list[Path]) -> None:
-    """A cached compile depends on the data file and on every place looked at before it (a file
-    added there later would be read instead): the recording library notes them as sources."""
-    noted = getattr(library, "read_files", None)
-    if noted is not None:
-        noted.update(paths)
-
-
-# ------------------------------------------------------------------------------ interpolations
-
-def _dataset_interpolation(call: ast.Call, scope: Any, structural: Structural
-                           ) -> PiecewisePolynomial | None:
-    if len(call.args) != 2 or call.kwargs:
-        raise DyadError("`dataset_interpolation` takes an interpolation kind and a dataset",
-                        call.span)
-    kind = _kind(call.args[0], scope, structural)
-    dataset = evaluate_object(call.args[1], scope, structural)
-    if kind is None or dataset is None:
-        return None                         # not given here (a component checked alone)
-    if not isinstance(dataset, datasets.Dataset):
-        raise DyadError("the second argument of `dataset_interpolation` is not a DyadDataset",
-                        call.span)
-    if len(dataset.dependent_vars) != 1:
-        raise DyadError(f"`dataset_interpolation` interpolates one dependent variable, but the "
-                        f"dataset names {len(dataset.dependent_vars)}", call.span,
-                        notes=[Note("the dataset is declared here", dataset.span)])
-    name = dataset.dependent_vars[0]
-    return _build(kind, list(dataset.column(name)), list(dataset.column(dataset.independent_var)),
-                  f"{kind.name} of `{name}` over `{dataset.independent_var}` in {dataset.label}",
-                  call.span, dataset.span)
-
-
-def _direct_interpolation(call: ast.Call, scope: Any, structural: Structural) -> PiecewisePolynomial:
-    if len(call.args) != 2 or call.kwargs:
-        raise DyadError(f"`{call.function}(values, times)` takes two arrays (dyadc supports no "
-                        f"options)", call.span)
-    u, t = (_floats(structural(arg, scope), call) for arg in call.args)
-    return _build(InterpolationKind(call.function), u, t, f"{call.function} at {call.span}",
-                  call.span, None)
-
-
-def _kind(expr: ast.Expr, scope: Any, structural: Structural) -> InterpolationKind | None:
-    value = evaluate_object(expr, scope, structural)
-    if value is None or isinstance(value, InterpolationKind):
-        return value
-    raise DyadError(f"not an interpolation kind; dyadc knows {', '.join(KINDS)}",
-                    getattr(expr, "span", None))
-
-
-def _floats(value: Any, call: ast.Call) -> list[float]:
-    import numpy as np
-    if not isinstance(value, np.ndarray) or value.ndim != 1:
-        raise DyadError(f"`{call.function}` takes vectors of numbers", call.span)
-    try:
-        return [float(v) for v in value]
-    except (TypeError, ValueError):
-        raise DyadError(f"`{call.function}` needs numbers known at compile time", call.span) from None
-
-
-def _build(kind: InterpolationKind, u: list[float], t: list[float], label: str, span: Span | None,
-           data_span: Span | None) -> PiecewisePolynomial:
-    try:
-        return kind.build(u, t, label)
-    except InterpolationError as exc:
-        raise DyadError(f"cannot interpolate {label}: {exc}", span,
-                        notes=[Note("the dataset is declared here", data_span)] if data_span else
-                        []) from None

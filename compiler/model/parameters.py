@@ -70,10 +70,25 @@ class ParameterInstance:
     def shape(self) -> tuple[int, ...]:
         if self._shape is None:
             self._shape = check_shape(tuple(
+                self._size_from_value(i, d.span) if isinstance(d, ast.Colon) else
                 structural_int(evaluate(d, self.node.scope(lex), Mode.STRUCTURAL), d.span,
-                               "an array size") for d, lex in self.type.dims),
+                               "an array size") for i, (d, lex) in enumerate(self.type.dims)),
                 self.decl.span, f"the array `{self.path}`")
         return self._shape
+
+    def _size_from_value(self, index: int, span: Span | None) -> int:
+        """A dimension declared `:` (`parameter a::Real[:] = [1.0, 1.0]`) has the size of the
+        parameter's value, whichever binding gives it (its default or a modifier)."""
+        if self.binding is None:
+            raise DyadError(f"parameter `{self.path}` takes its size from its value (`:`) but has "
+                            f"no value", span, hint=f"give it one: `{self.name} = [...]`")
+        expr, scope = self.binding
+        value_shape = shape_of(numeric(evaluate(expr, scope, Mode.NUMERIC), expr.span))
+        if len(value_shape) != len(self.type.dims):
+            raise DyadError(f"array size mismatch: parameter `{self.path}` is declared with "
+                            f"{len(self.type.dims)} dimension(s) but its value has size "
+                            f"{value_shape or 'scalar'}", expr.span)
+        return value_shape[index]
 
     def symbols(self) -> Any:
         return symbols_for(self.path, self.shape())

@@ -57,12 +57,33 @@ def struct_type(library, spec: ast.TypeSpec, package: str, file) -> StructType |
     return StructType(found, tuple(mods))
 
 
+# The dataset types of Dyad's Julia package DyadData (help.juliahub.com, "Working with Data"):
+# declared as `ds::DyadData.DyadDataset`, or unqualified in a file that says `using DyadData`.
+DYADDATA_PACKAGE = "DyadData"
+DYADDATA_TYPES = ("DyadDataset", "DyadTimeseries", "DyadTable", "DyadInterpolationTable2D")
+
+
+def is_dyaddata_type(name: str, file) -> bool:
+    """Does `name` name one of DyadData's dataset types where it is written?"""
+    package, _, short = name.rpartition(".")
+    if short not in DYADDATA_TYPES:
+        return False
+    if package == DYADDATA_PACKAGE:
+        return True
+    return not package and any(using.package == DYADDATA_PACKAGE
+                               and (not using.names or short in using.names)
+                               for using in getattr(file, "usings", ()))
+
+
 def is_julia_object(library, spec: ast.TypeSpec, package: str, file) -> bool:
     """Is a parameter of this type a Julia object dyadc keeps opaque: `Native` (a dataset, an
-    interpolator), directly or through aliases, or a function type (`func(::Real)::Real`)?"""
+    interpolator), directly or through aliases, one of DyadData's dataset types, or a function
+    type (`func(::Real)::Real`)?"""
     depth = 0
     while depth <= MAX_ALIAS_DEPTH:
         if spec.name in ("Native", "Dyad.Native"):
+            return True
+        if is_dyaddata_type(spec.name, file) and library.lookup(spec.name, package, file) is None:
             return True
         if spec.name in ("Real", "Integer", "Boolean", "String"):
             return False

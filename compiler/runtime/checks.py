@@ -26,7 +26,8 @@ def bound_indicators(model: CompiledModel, outputs: ca.SX, atol: float = 0.0
         for key in ("min", "max"):
             if key in limits:
                 bound = float(limits[key])
-                slack = max(_slack(bound), atol * abs(model.nominals.get(name, 1.0)))
+                # ca.fmax: atol may be a symbol (the native driver's C watch takes it as input)
+                slack = ca.fmax(_slack(bound), atol * abs(model.nominals.get(name, 1.0)))
                 rows.append(value - (bound - slack) if key == "min" else bound + slack - value)
                 labels.append((name, key, bound))
     return (ca.vertcat(*rows) if rows else ca.SX(0, 1)), labels

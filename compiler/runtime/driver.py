@@ -16,6 +16,7 @@ from .relations import settle_relations
 from .result import Result
 from .run_loop import integrate
 from .run_state import RunState, StateSetSwitcher, switched_factor
+from .sampled_idas import SampledIdas
 from .segments import segment_ends, with_clock
 from .static import solve_static
 from .universal import UniversalSwitcher
@@ -45,7 +46,8 @@ def simulate(model: CompiledModel, stop: float | None = None, *, options: Simula
     elif stop is not None or settings:
         raise TypeError("pass either options or keyword settings, not both")
     options = options.validated()
-    run = RunState(model, options, switcher if switcher is not None else default_switcher(model))
+    run = RunState(model, options, switcher if switcher is not None else default_switcher(model),
+                   options.integrator or SampledIdas)
     p = model.parameter_vector(options.params)
     run.parameters = model.named_parameters(p)
     run.ends = segment_ends(model, p, options)
@@ -90,6 +92,7 @@ def _run_watched(run, model, p, point, progress, stats, began) -> Result:
     stats["run_time"] = _time.perf_counter() - began
     stats.update(run.counters)
     stats["state_switches"] = run.switches
+    stats["integrator"] = ", ".join(sorted(run.integrator_names))
     if run.bounds_left:                   # declared bounds the run left and went on (bounds="warn")
         stats["bounds_left"] = run.bounds_left
     if run.switches:                      # what IDAS ran at from the first switch on

@@ -6,7 +6,7 @@ import dataclasses
 import math
 import sys
 from dataclasses import dataclass
-from typing import Mapping, Sequence
+from typing import Callable, Mapping, Sequence
 
 import numpy as np
 
@@ -35,6 +35,10 @@ class SimulationOptions:
     # a declared min/max left during the run: "warn" (Dyad's and Modelica's reading: bounds are
     # metadata, checked) goes on with a warning, "error" stops the run there
     bounds: str = "warn"
+    # what makes the run's integrators, make_integrator(model, idas options, watch, tally) ->
+    # Integrator (integrator.py); None: CasADi's IDAS (sampled_idas.SampledIdas).
+    # compiler.native.make_integrator: the native IDAS driver, where it can run the model
+    integrator: Callable | None = None
 
     def validated(self) -> "SimulationOptions":
         start, stop = _finite("start", self.start), _finite("stop", self.stop)
@@ -52,6 +56,9 @@ class SimulationOptions:
             _positive("max_step", self.max_step)
         if self.bounds not in ("warn", "error"):
             raise ModelInputError(f"bounds must be 'warn' or 'error', got {self.bounds!r}")
+        if self.integrator is not None and not callable(self.integrator):
+            raise ModelInputError(f"integrator must make integrators (a callable, e.g. "
+                                  f"compiler.native.make_integrator), got {self.integrator!r}")
         if int(self.max_steps) < 1:
             raise ModelInputError(f"max_steps must be at least 1, got {self.max_steps}")
         if self.saveat is None:

@@ -69,6 +69,7 @@ class RunState:
         self.bounds_left: list[dict] = []        # declared bounds left (bounds="warn")
         self.ignored: set[tuple] = set()         # watch labels no longer located (bounds warned of)
         self.integrators: dict[tuple, tuple] = {}
+        self.integrator_names: set[str] = set()  # which integrators ran (Result.stats["integrator"])
         self.parameter_vectors: dict[int, np.ndarray] = {}    # per state set, read-only
         self.pending: dict[int, tuple] = {}
         self.forced_ends: set[float] = set()     # ends of calls cut before a failure
@@ -118,7 +119,9 @@ class RunState:
                          if isinstance(atol, Mapping) else atol / factor)
             opts = integrator_options(model, self.options.rtol / factor, tightened,
                                       self.options.max_steps, self.options.idas_options(), switched)
-            self.integrators[key] = (model, self.make_integrator(model, opts, watch, self.add))
+            integrator = self.make_integrator(model, opts, watch, self.add)
+            self.integrator_names.add(getattr(integrator, "name", type(integrator).__name__))
+            self.integrators[key] = (model, integrator)
         return self.integrators[key][1]
 
     def store(self, model: CompiledModel, xs, zs, p, times) -> None:

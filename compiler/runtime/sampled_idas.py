@@ -24,6 +24,7 @@ CHECKS_PER_SEGMENT = 200
 class SampledIdas:
     """Integrator (integrator.py) on CasADi's IDAS: crossings are found after each call."""
     locates_crossings = False
+    name = "casadi"
 
     def __init__(self, model: CompiledModel, options: Mapping, watch: Watch | None, tally: Tally):
         self.model = model

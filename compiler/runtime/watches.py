@@ -25,6 +25,7 @@ class Watch:
     ("state set", level) a monitored state set (positive while it holds)."""
     function: ca.Function              # (x, z, p, t) -> column
     labels: tuple[tuple, ...]
+    atol: float = 0.0                  # the absolute tolerance that widens the bounds (watched_rows)
     _maps: dict = field(default_factory=dict, repr=False)
 
     def values(self, xs: np.ndarray, zs: np.ndarray, p: np.ndarray, times) -> np.ndarray:
@@ -35,7 +36,19 @@ class Watch:
 
 
 def build_watch(model: CompiledModel, atol: float = 0.0) -> Watch | None:
-    x, z, p, t = model.symbols()
+    x, z, p, t = symbols = model.symbols()
+    rows, labels = watched_rows(model, symbols, atol)
+    if not labels:
+        return None
+    function = ca.Function("watch", [x, z, p, t], [rows], ["x", "z", "p", "t"], ["zero"])
+    return Watch(function, tuple(labels), float(atol))
+
+
+def watched_rows(model: CompiledModel, symbols: tuple, atol) -> tuple[ca.SX, list[tuple]]:
+    """The watched zero functions of `symbols` (x, z, p, t: model.symbols()) as one column, and
+    their labels (Watch); `atol` (a number, or a symbol for a compiled watch that takes it as
+    input) widens the bounds."""
+    x, z, p, t = symbols
     rows: list[ca.SX] = []
     labels: list[tuple] = []
     if model.events is not None and model.events.numel_out():
@@ -54,10 +67,7 @@ def build_watch(model: CompiledModel, atol: float = 0.0) -> Watch | None:
     for level in range(indicators.shape[0]):
         rows.append(indicators[level])
         labels.append(("state set", level))
-    if not rows:
-        return None
-    function = ca.Function("watch", [x, z, p, t], [ca.vertcat(*rows)], ["x", "z", "p", "t"], ["zero"])
-    return Watch(function, tuple(labels))
+    return (ca.vertcat(*rows) if rows else ca.SX(0, 1)), labels
 
 
 def time_breakpoints(model: CompiledModel, p: np.ndarray, start: float, stop: float) -> list[float]:

@@ -27,7 +27,8 @@ def compile_case(spec: str, lib_dirs: Sequence[str], case: Case):
     """The Compilation of `spec` with the structural values of `case` set as modifiers."""
     from compiler.model.flatten import Flattener
     from compiler.model.instantiate import BoundMod, instantiate, normalize
-    from compiler.model.library import Library, resolve_model
+    from compiler.model.library import Library
+    from compiler.model.model_spec import resolve_model
     from compiler.pipeline import compile_flat
     from compiler.syntax import ast
 

@@ -37,6 +37,7 @@ CONTINUATION_STARTERS = frozenset({
     "DOT_CARET", "COMPARE_OP", "AND", "OR", "AMP_AMP", "PIPE_PIPE", "EQUAL", "RPAR", "RSQB", "RBRACE", "COMMA",
     "COLON", "DOUBLE_COLON", "DOT", "LBRACE", "THEN", "ELSE", "ELSEIF", "IN",
     "PERCENT", "INT_DIV", "QMARK", "TERNARY_ELSE", "META_OPEN", "METADATA",
+    "VBAR",     # `enum Mode =` with one `| Member` per line
 })
 # Docstrings follow these (besides expression enders): the start of a section.
 STATEMENT_OPENERS = frozenset({"SEMICOLON", "RELATIONS"})

@@ -5,7 +5,10 @@ the `end` of the switch); dyadc also reads the form without them (`case A` ... `
 One token of lookahead cannot tell the two `end`s apart, so this pass, run on the arranged token
 stream, retypes the `end` of a case (or of a switch's `else`) to CASE_END. The rule is the layout
 both forms are written in (and `dyadc fmt` prints): a case's `end` stands deeper than its `switch`
-keyword, the switch's own `end` stands at the keyword's column.
+keyword, the switch's own `end` stands at the keyword's column. Where the layout is flat (cases
+written at the column of their `switch`), the tokens decide: an `end` followed by another `case`
+(or the switch's `else`) not left of the `switch` closes a case, and once one case of a switch
+was closed so, every case of that switch is (the Dyad form throughout).
 """
 from __future__ import annotations
 
@@ -22,6 +25,9 @@ _STATEMENT_BOUNDARIES = {"_NL", "SEMICOLON", "RELATIONS", "END", "DOCSTRING", "C
 class _Block:
     kind: str            # 'block' (anything closed by `end`), 'switch', 'case' (a case or else)
     column: int
+    cases_closed: bool = False      # a switch one of whose cases had an `end` of its own
+
+_SEPARATORS = {"_NL", "SEMICOLON"}
 
 
 def mark_case_ends(tokens: list[Token]) -> list[Token]:
@@ -54,14 +60,24 @@ def _track(tok: Token, tokens: list[Token], index: int, stack: list[_Block]) -> 
         if top.kind == "case":
             stack.pop()
             switch = stack[-1] if stack else None
-            if switch is not None and switch.kind == "switch" and tok.column > switch.column:
-                return Token.new_borrow_pos("CASE_END", tok.value, tok)
             if switch is None:
                 return tok
+            if switch.kind == "switch" and _closes_case(tok, tokens, index, switch):
+                switch.cases_closed = True
+                return Token.new_borrow_pos("CASE_END", tok.value, tok)
         stack.pop()                          # the block (or the switch) this `end` closes
     elif _opens_block(tok, tokens, index):
         stack.append(_Block("block", tok.column))
     return tok
+
+
+def _closes_case(tok: Token, tokens: list[Token], index: int, switch: _Block) -> bool:
+    """Does this `end`, met inside a case of `switch`, close that case (not the switch)?"""
+    following = next((t for t in tokens[index + 1:] if t.type not in _SEPARATORS), None)
+    if following is not None and following.type in ("CASE", "ELSE") \
+            and following.column >= switch.column:      # not a case of an enclosing switch
+        return True
+    return switch.cases_closed or tok.column > switch.column
 
 
 def _opens_block(tok: Token, tokens: list[Token], index: int) -> bool:

@@ -246,5 +246,5 @@ def run_tests(model_spec: str | None, lib_dirs: Sequence[str] = (), *,
 
 
 def _qualified_name(spec: str, lib_dirs: Sequence[str]) -> str:
-    from compiler.model.library import load_model
+    from compiler.model.model_spec import load_model
     return load_model(spec, lib_dirs)[2]

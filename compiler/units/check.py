@@ -11,7 +11,7 @@ from typing import Any
 from compiler.errors import DyadError
 from compiler.model.expressions import EvalScope, Mode, evaluate, iteration_values, structural_bool, \
     switch_branch
-from compiler.model.flatten_connect import DISABLED, resolve_connector
+from compiler.model.flatten_connect import DISABLED, SignalElements, resolve_connector
 from compiler.syntax import ast
 from compiler.units.constraints import DIMENSIONLESS, FREE, Dim, Solver
 from compiler.units.expressions import ExpressionUnits
@@ -213,10 +213,11 @@ class UnitCheck:
 
 
 def _fields(target: Any) -> dict[str, Any]:
-    """name -> variable instance of a connector end (a signal is its own one field)."""
+    """name -> variable instance of a connector end (a signal is its own one field; elements of an
+    array signal have the units of the whole)."""
     if hasattr(target, "variables"):
         return target.variables
-    return {"": target}
+    return {"": target.variable if isinstance(target, SignalElements) else target}
 
 
 def _suffix(name: str, target: Any) -> str:

@@ -82,6 +82,35 @@ def test_a_file_added_where_the_library_looked_is_compiled_again(tmp_path):
     assert after.final("d.x") == pytest.approx(math.exp(-0.5), rel=1e-8)
 
 
+def test_a_subpackage_added_beside_an_alias_is_compiled_again(tmp_path):
+    """`Lib.Decay` resolves as the flat alias of `Lib.Fast.Decay`; once a second subpackage also
+    defines `Decay`, the flat path is ambiguous: the cached compile is not reused, the run fails."""
+    cache, library = tmp_path / "cache", tmp_path / "lib"
+    decay = """
+        component Decay
+          parameter k::Real = 2.0
+          variable x::Real
+        relations
+          initial x = 1
+          der(x) = -k * x
+        end
+        """
+    write(library / "Lib" / "Fast" / "Decay.dyad", decay)
+    write(library / "Use" / "Use.dyad", """
+        component Use
+          d = Lib.Decay()
+        end
+        """)
+    spec = ("simulate", "Use.Use", "--stop", "1", "--vars", "d.x", "-L", library)
+    before = dyadc(cache, *spec)
+    assert before.code == 0, before.stderr
+    assert before.final("d.x") == pytest.approx(math.exp(-2.0), rel=1e-4)
+    write(library / "Lib" / "Slow" / "Decay.dyad", decay.replace("2.0", "0.5"))
+    after = dyadc(cache, *spec)
+    assert after.code != 0
+    assert "`Lib.Decay` is defined in more than one subpackage of `Lib`" in after.stderr
+
+
 def test_a_package_that_replaces_a_shipped_one_is_compiled_again(tmp_path):
     """A model compiled with the shipped TranslationalComponents is not served from the cache once
     a folder on its path holds a TranslationalComponents of the user's (which replaces it)."""

@@ -30,6 +30,7 @@ SAMPLE_ARGUMENTS = {
     "generate": ["generate", "-o", "g"],
     "linearize": ["linearize", "M", "--inputs", "u", "--outputs", "y", "z", "--at", "1", "--op", "u=1",
                   "-p", "a=1", "--open", "u", "--minimal", "--output", "l.json"],
+    "fmu": ["fmu", "M", "-o", "m.fmu", "--fmi", "2", "--kind", "me", "-p", "a=1", "--stop", "2"],
 }
 
 

@@ -1,4 +1,4 @@
-"""The published test values that benchmarks/compat_explained.py counts as wrong (issue 17).
+"""The published test values that benchmarks/compat_explained_values.py counts as wrong (issue 17).
 
 For every reviewed case: its independent value is recomputed here (tests/compat/independent.py,
 no dyadc), lies outside the case's own tolerance around the published value, and dyadc's run of
@@ -23,7 +23,7 @@ from compiler.api import simulate_compiled
 from tests.compat import independent
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
-from compat_explained import EXPLAINED_VALUES, agreement, value_explanation  # noqa: E402
+from compat_explained_values import EXPLAINED_VALUES, agreement, value_explanation  # noqa: E402
 
 MODELS = Path(__file__).resolve().parent / "models"
 JULIA_DEFAULT_RTOL = math.sqrt(2.0 ** -52)     # isapprox without atol, as Dyad's tests compare

@@ -6,7 +6,8 @@ import pytest
 from compiler.errors import DyadError
 from compiler.model.flatten import flatten_model
 from compiler.model.functions import GLOBAL_REGISTRY, register_function
-from compiler.model.library import Library, load_model
+from compiler.model.library import Library
+from compiler.model.model_spec import load_model
 
 
 def test_resolving_a_model_parses_only_the_files_it_needs(sources):
@@ -35,7 +36,7 @@ def test_resolving_a_model_parses_only_the_files_it_needs(sources):
     lib, definition, qualified = load_model("Pkg.A", library=library)
     assert (definition.name, qualified) == ("A", "Pkg.A")
     from compiler.model.flatten import flatten_resolved
-    from compiler.model.library import resolve_model
+    from compiler.model.model_spec import resolve_model
     flat = flatten_resolved(resolve_model("Pkg.A", library), library)
     assert [v.name for v in flat.variables] == ["b.x"]
     assert library.parse_count == 2

@@ -158,5 +158,5 @@ def test_a_generic_block_fed_volts_and_amperes_is_located_in_the_block(units):
     findings = units.findings(GENERIC_BLOCKS.replace("SECOND", "v"))
     assert [f.message for f in findings] == [
         "units do not match in this equation: left side A, right side V"]
-    assert findings[0].span.file.endswith("BlockComponents/Feedback.dyad")
+    assert findings[0].span.file.endswith("BlockComponents/Math/Feedback.dyad")
     assert findings[0].paths == ["on_amperes"]

@@ -1,0 +1,191 @@
+"""`dataset_interpolation(...)` and `Kind(values, times)`: the interpolators a Dyad library builds
+from data, in every form Dyad's documentation of BlockComponents uses (help.juliahub.com,
+BlockComponents `Interpolation`, `ScalarInterpolation`, `Tables.InterpolatedTable`):
+
+    dataset_interpolation(kind, dataset)                          # the dataset's one dependent var
+    dataset_interpolation(kind, dataset["y"], dataset["t"])       # values, then times: columns
+    dataset_interpolation(kind, dataset[only(get_dependent_vars(dataset))],
+                          dataset[get_independent_var(dataset)])
+    dataset_interpolation(kind, "data.csv", "y", "t")             # a file, its value and time columns
+    dataset_interpolation(kind1, axis1, kind2, axis2, data)       # a 2-D table: refused, located
+
+Each gives the piecewise polynomial of compiler/model/interpolation.py, or None when a value it
+needs is not given where it is used (a component checked on its own). `evaluate_object` is
+compiler/model/object_values.py's, passed in so that this module does not import it back.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Callable
+
+from compiler.errors import DyadError, Note, Span
+from compiler.model import datasets
+from compiler.model.interpolation import KINDS, InterpolationError, InterpolationKind, \
+    PiecewisePolynomial
+from compiler.syntax import ast
+
+Structural = Callable[[ast.Expr, Any], Any]
+EvaluateObject = Callable[[ast.Expr, Any, Structural], Any]
+_COLUMN_OF = {"get_independent_var": "independent"}     # `dataset[get_independent_var(dataset)]`
+
+
+def dataset_interpolation(call: ast.Call, scope: Any, structural: Structural,
+                          evaluate_object: EvaluateObject) -> PiecewisePolynomial | None:
+    if call.kwargs:
+        raise DyadError("`dataset_interpolation` takes no keyword arguments in dyadc", call.span)
+    if len(call.args) == 5:
+        raise DyadError("a two-dimensional table (`dataset_interpolation(kind1, axis1, kind2, "
+                        "axis2, data)`) is not supported by dyadc yet", call.span,
+                        hint="interpolate in one argument: dataset_interpolation(kind, dataset)")
+    if len(call.args) not in (2, 3, 4):
+        raise DyadError(f"`dataset_interpolation` takes (kind, dataset), (kind, values, times) or "
+                        f"(kind, file, value_column, time_column), got {len(call.args)} "
+                        f"arguments", call.span)
+    kind = _kind(call.args[0], scope, structural, evaluate_object)
+    if len(call.args) == 2:
+        return _of_dataset(kind, call, scope, structural, evaluate_object)
+    if len(call.args) == 4:
+        return _of_file(kind, call, scope, structural)
+    columns = [_column(arg, scope, structural, evaluate_object) for arg in call.args[1:]]
+    if kind is None or any(column is None for column in columns):
+        return None
+    (u, u_label), (t, t_label) = columns
+    return _build(kind, u, t, f"{kind.name} of {u_label} over {t_label}", call.span, None)
+
+
+def _of_dataset(kind: InterpolationKind | None, call: ast.Call, scope: Any, structural: Structural,
+                evaluate_object: EvaluateObject) -> PiecewisePolynomial | None:
+    dataset = evaluate_object(call.args[1], scope, structural)
+    if kind is None or dataset is None:
+        return None                         # not given here (a component checked alone)
+    if not isinstance(dataset, datasets.Dataset):
+        raise DyadError("the second argument of `dataset_interpolation` is not a DyadDataset",
+                        call.span)
+    if len(dataset.dependent_vars) != 1:
+        raise DyadError(f"`dataset_interpolation` interpolates one dependent variable, but the "
+                        f"dataset names {len(dataset.dependent_vars)}", call.span,
+                        notes=[Note("the dataset is declared here", dataset.span)])
+    name = dataset.dependent_vars[0]
+    return _build(kind, list(dataset.column(name)), list(dataset.column(dataset.independent_var)),
+                  f"{kind.name} of `{name}` over `{dataset.independent_var}` in {dataset.label}",
+                  call.span, dataset.span)
+
+
+def _of_file(kind: InterpolationKind | None, call: ast.Call, scope: Any,
+             structural: Structural) -> PiecewisePolynomial | None:
+    name, dependent, independent = (_string(arg, scope, structural, what) for arg, what in zip(
+        call.args[1:], ("the file", "the value column", "the time column")))
+    if kind is None:
+        return None
+    dataset = read_file_dataset(name, independent, (dependent,), scope, call.span)
+    return _build(kind, list(dataset.column(dependent)), list(dataset.column(independent)),
+                  f"{kind.name} of `{dependent}` over `{independent}` in {dataset.label}",
+                  call.span, None)
+
+
+def read_file_dataset(name: str, independent: str, dependent: tuple[str, ...], scope: Any,
+                      span: Span | None) -> datasets.Dataset:
+    """The columns of data file `name` (found as DyadDataset finds it) written at `span`."""
+    library = scope.lexical.library
+    path = datasets.locate(name, span, list(getattr(library, "roots", [])))
+    _note_read(library, datasets.candidates_read(name, span) + [path])
+    return datasets.from_csv(path, independent, dependent, span)
+
+
+def _note_read(library: Any, paths: list[Path]) -> None:
+    """A cached compile depends on the data file and on every place looked at before it (a file
+    added there later would be read instead): the recording library notes them as sources."""
+    noted = getattr(library, "read_files", None)
+    if noted is not None:
+        noted.update(paths)
+
+
+def _column(expr: ast.Expr, scope: Any, structural: Structural,
+            evaluate_object: EvaluateObject) -> tuple[list[float], str] | None:
+    """A column `dataset[name]` (its values and a label), or a vector known at compile time."""
+    if isinstance(expr, ast.Ref) and len(expr.parts[-1].indices) == 1:
+        last = expr.parts[-1]
+        base = ast.Ref(expr.parts[:-1] + (ast.RefPart(last.name, ()),), expr.span)
+        dataset = evaluate_object(base, scope, structural)
+        if dataset is None and _names_object(base, scope):
+            return None
+        if isinstance(dataset, datasets.Dataset):
+            name = _column_name(last.indices[0], dataset, scope, structural)
+            if name not in dict(dataset.columns):
+                raise DyadError(f"the dataset has no column `{name}`; it has "
+                                f"{', '.join(dict(dataset.columns))}", expr.span,
+                                notes=[Note("the dataset is declared here", dataset.span)])
+            return list(dataset.column(name)), f"`{name}` in {dataset.label}"
+    return _floats(structural(expr, scope), expr), f"the values at {expr.span}"
+
+
+def _names_object(ref: ast.Ref, scope: Any) -> bool:
+    return len(ref.parts) == 1 and ref.parts[0].name in getattr(scope.node, "path_fields", {})
+
+
+def _column_name(index: ast.Expr, dataset: datasets.Dataset, scope: Any,
+                 structural: Structural) -> str:
+    """`"y"`, `get_independent_var(ds)`, `only(get_dependent_vars(ds))`."""
+    if isinstance(index, ast.Call) and index.function in _COLUMN_OF and len(index.args) == 1:
+        return dataset.independent_var
+    if isinstance(index, ast.Call) and index.function in ("only", "first") and len(index.args) == 1:
+        inner = index.args[0]
+        if isinstance(inner, ast.Call) and inner.function == "get_dependent_vars":
+            if index.function == "only" and len(dataset.dependent_vars) != 1:
+                raise DyadError(f"`only(get_dependent_vars(...))` needs one dependent variable, "
+                                f"but the dataset names {len(dataset.dependent_vars)}", index.span,
+                                notes=[Note("the dataset is declared here", dataset.span)])
+            return dataset.dependent_vars[0]
+    value = structural(index, scope)
+    if not isinstance(value, str):
+        raise DyadError("a dataset's column is selected by its name (a string)",
+                        getattr(index, "span", None))
+    return value
+
+
+def direct_interpolation(call: ast.Call, scope: Any, structural: Structural) -> PiecewisePolynomial:
+    """`LinearInterpolation(values, times)`."""
+    if len(call.args) != 2 or call.kwargs:
+        raise DyadError(f"`{call.function}(values, times)` takes two arrays (dyadc supports no "
+                        f"options)", call.span)
+    u, t = (_floats(structural(arg, scope), arg, call.function) for arg in call.args)
+    return _build(InterpolationKind(call.function), u, t, f"{call.function} at {call.span}",
+                  call.span, None)
+
+
+def _kind(expr: ast.Expr, scope: Any, structural: Structural,
+          evaluate_object: EvaluateObject) -> InterpolationKind | None:
+    value = evaluate_object(expr, scope, structural)
+    if value is None or isinstance(value, InterpolationKind):
+        return value
+    raise DyadError(f"not an interpolation kind; dyadc knows {', '.join(KINDS)}",
+                    getattr(expr, "span", None))
+
+
+def _string(expr: ast.Expr, scope: Any, structural: Structural, what: str) -> str:
+    value = structural(expr, scope)
+    if not isinstance(value, str):
+        raise DyadError(f"`dataset_interpolation`: {what} must be a string",
+                        getattr(expr, "span", None))
+    return value
+
+
+def _floats(value: Any, expr: Any, function: str = "dataset_interpolation") -> list[float]:
+    import numpy as np
+    span = getattr(expr, "span", None)
+    if not isinstance(value, np.ndarray) or value.ndim != 1:
+        raise DyadError(f"`{function}` takes vectors of numbers", span)
+    try:
+        return [float(v) for v in value]
+    except (TypeError, ValueError):
+        raise DyadError(f"`{function}` needs numbers known at compile time", span) from None
+
+
+def _build(kind: InterpolationKind, u: list[float], t: list[float], label: str, span: Span | None,
+           data_span: Span | None) -> PiecewisePolynomial:
+    try:
+        return kind.build(u, t, label)
+    except InterpolationError as exc:
+        raise DyadError(f"cannot interpolate {label}: {exc}", span,
+                        notes=[Note("the dataset is declared here", data_span)] if data_span else
+                        []) from None

@@ -1,0 +1,83 @@
+"""The hints of an unknown definition name: the closest component or type the library knows, or,
+for a flat path that more than one subpackage defines, the documented paths to choose from.
+Functions of a compiler.model.library.Library (its public reading and lookup methods only)."""
+from __future__ import annotations
+
+import re
+
+from compiler.errors import DyadError, Span, closest, suggest_name
+from compiler.model.library_path import BASE_PACKAGE
+from compiler.syntax import ast
+
+PRIMITIVE_TYPES = ("Real", "Integer", "Boolean", "String")
+DEFINITION_KEYWORDS = r"(?:component|connector|type|enum|analysis|struct)"
+_COMPONENT_HEADER = re.compile(r"(?<![\w.])component\s+(\w+)")
+# Dyad's packages of sampled (discrete-time, clocked) components: dyadc has no clocked semantics
+# yet, so a use of one is refused by name rather than reported as an unknown name.
+SAMPLED_PACKAGES = ("DiscreteComponents",)
+
+
+def suggest_component(library, name: str, package: str, file: ast.File | None) -> str | None:
+    """In a component position only components are suggested (never a quantity type such as
+    `Resistance`): those of the file, of the files parsed so far, and of the folders where
+    `name` would be looked up, qualified as the user wrote `name`."""
+    ambiguous = ambiguous_alias_hint(library, name, package, file)
+    if ambiguous:
+        return ambiguous
+    prefix, _, local = name.rpartition(".")
+    known: set[str] = set()
+    if not prefix:
+        for parsed in ([file] if file else []) + library.parsed_files():
+            known.update(d.name for d in parsed.definitions if isinstance(d, ast.ComponentDef))
+    for candidate in library.candidates(name, package, file):
+        for root in library.roots_for(candidate):
+            folder = root.joinpath(*candidate.split(".")[:-1])
+            try:
+                paths = sorted(folder.glob("*.dyad")) if folder.is_dir() else []
+            except OSError:         # a name longer than a file name may be
+                continue
+            for path in paths:
+                known.update(_COMPONENT_HEADER.findall(library.source_text(path.resolve())))
+    match = closest(local, known)
+    return f"did you mean `{prefix + '.' if prefix else ''}{match[0]}`?" if match else None
+
+
+def suggest_type(library, name: str, package: str, file: ast.File | None) -> str | None:
+    """The closest type name: primitive, of the file, of the files parsed so far, or of `Dyad`."""
+    ambiguous = ambiguous_alias_hint(library, name, package, file)
+    if ambiguous:
+        return ambiguous
+    known = set(PRIMITIVE_TYPES)
+    if file is not None:
+        known.update(d.name for d in file.definitions)
+    for parsed in library.parsed_files():
+        known.update(d.name for d in parsed.definitions)
+    for root in library.roots_for(f"{BASE_PACKAGE}.{name}"):
+        std = root / BASE_PACKAGE
+        if std.is_dir():
+            for path in std.glob("*.dyad"):
+                known.update(re.findall(rf"{DEFINITION_KEYWORDS}\s+(\w+)",
+                                        library.source_text(path.resolve())))
+    return suggest_name(name.rsplit(".", 1)[-1], known)
+
+
+def ambiguous_alias_hint(library, name: str, package: str, file: ast.File | None) -> str | None:
+    """`P.X` that no folder defines and several subpackages of P do (`P.A.X`, `P.B.X`): the
+    flat path is then no alias, and the hint lists the paths to choose from."""
+    for candidate in library.candidates(name, package, file):
+        defined = library.subpackage_definitions(candidate)
+        if len(defined) > 1:
+            return (f"`{candidate}` is defined in more than one subpackage of "
+                    f"`{candidate.rpartition('.')[0]}`; name one: "
+                    + ", ".join(f"`{found.qualified_name}`" for found in defined))
+    return None
+
+
+def sampled_component_error(name: str, span: Span | None) -> DyadError | None:
+    """The refusal of a component of one of Dyad's sampled packages, or None for another name."""
+    package = name.split(".", 1)[0]
+    if package not in SAMPLED_PACKAGES or "." not in name:
+        return None
+    return DyadError(f"`{name}` is a sampled (discrete-time) component of Dyad's `{package}`; dyadc "
+                     f"does not simulate clocked (sampled) components yet", span,
+                     hint="model the controller or filter in continuous time (BlockComponents.Continuous)")

@@ -1,0 +1,132 @@
+"""The native IDAS driver as an Integrator (compiler/runtime/integrator.py): IDAS kept between
+calls, restarted only where the call does not go on from where IDAS stands with the same
+equations (another point, other parameters or watched rows: an event, a state-set switch, a time
+event that moves the event clock); `tstop` at the call's reach; the watched rows found by IDAS's
+own root finding, with direction; the outputs by dense output; the statistics read from IDAS."""
+from __future__ import annotations
+
+from typing import Mapping
+
+import numpy as np
+
+from compiler.runtime.checks import RUNAWAY_LIMIT, check_divergence
+from compiler.runtime.crossings import root_directions
+from compiler.runtime.errors import SimulationFailed
+from compiler.runtime.idas import idas_reason
+from compiler.runtime.integrator import FAILED, REACHED, Call, Stop, Tally
+from compiler.runtime.model import CompiledModel
+from compiler.runtime.watches import Watch
+
+from . import library
+
+# CasADi IDAS options (runtime/idas.integrator_options and a caller's integrator_options) that
+# the native driver honours, and the ones that do not apply to it: it starts every call from a
+# consistent point with der(x) from the model, and factorizes with dense LU
+HONOURED = {"reltol", "abstol", "abstolv", "max_num_steps", "suppress_algebraic", "max_step_size",
+            "max_multistep_order", "step0"}
+NOT_APPLICABLE = {"calc_ic", "init_xdot", "disable_internal_warnings", "show_eval_warnings",
+                  "linear_solver"}
+
+
+def unhonoured_options(options: Mapping) -> list[str]:
+    """The IDAS options the native driver cannot honour (their run goes to CasADi's IDAS)."""
+    return sorted(set(options) - HONOURED - NOT_APPLICABLE)
+
+
+class NativeIdas:
+    """Integrator on the native driver for one model (its C library) and one set of options."""
+    locates_crossings = True
+    name = "native"
+
+    def __init__(self, model: CompiledModel, options: Mapping, watch: Watch | None, tally: Tally,
+                 watch_atol: float):
+        self.model, self.watch, self.tally = model, watch, tally
+        nx, nz, npar = model.sizes
+        nrows = 0 if watch is None else len(watch.labels)
+        self.driver = library.Driver(model.native_library, nx, nz, npar, nrows)
+        atol = np.asarray(options.get("abstolv", [options.get("abstol", 1e-8)] * (nx + nz)), dtype=float)
+        directions = root_directions(watch) if watch is not None else np.zeros(0, dtype=int)
+        sides = zero_sides(watch) if watch is not None else np.zeros(0, dtype=int)
+        flag = self.driver.setup(float(options.get("reltol", 1e-6)), atol,
+                                 bool(options.get("suppress_algebraic", False)),
+                                 float(options.get("max_step_size", 0.0)),
+                                 int(options.get("max_multistep_order", 0)), directions, sides,
+                                 watch_atol)
+        if flag:
+            raise RuntimeError(f"IDAS set-up failed: {_flag_name(flag)} ({self.driver.message()})")
+        self.max_steps = int(options.get("max_num_steps", 100000))
+        self.step0 = float(options.get("step0", 0.0))
+        self.nrows = nrows
+        self.at: tuple | None = None        # (t, x, z, p, active) where IDAS stands
+        self.counted = np.zeros(len(library.COUNTER_NAMES), dtype=np.int_)
+
+    def advance(self, call: Call) -> Stop:
+        active = np.ones(self.nrows, dtype=np.intc)
+        active[sorted(call.ignored)] = 0
+        if not self._goes_on(call, active):
+            flag = self.driver.restart(call.t0, call.x0, call.z0, call.p, active,
+                                       call.step0 if call.step0 else self.step0)
+            self.counted[:] = 0
+            if flag:
+                return self._failed(call, flag, call.t0)
+        flag, k, xs, zs, t, x, z, row, direction = self.driver.advance(
+            call.reach, call.outputs, RUNAWAY_LIMIT * call.scale, self.max_steps)
+        self._tally()
+        samples = [(call.outputs[:k], xs, zs)]
+        if flag == library.REACHED:
+            self.at = (call.reach, x, z, call.p, active)
+            return Stop(REACHED, call.reach, x, z, samples)
+        self.at = None
+        if flag == library.ROOT:
+            kind, what = self.watch.labels[row]
+            return Stop(kind, t, x, z, samples, row, what, direction=direction)
+        if flag == library.INTERRUPTED:
+            raise KeyboardInterrupt          # Ctrl-C, taken by the driver while IDAS stepped
+        if flag == library.RUNAWAY:
+            check_divergence(self.model, np.array([t]), x.reshape(-1, 1), call.scale)
+        return self._failed(call, flag, t)
+
+    def _goes_on(self, call: Call, active: np.ndarray) -> bool:
+        """Whether IDAS stands where the call starts, with the same equations: then it steps on
+        with its step history instead of a cold restart."""
+        if self.at is None:
+            return False
+        t, x, z, p, was_active = self.at
+        return (t == call.t0 and np.array_equal(x, call.x0) and np.array_equal(z, call.z0)
+                and np.array_equal(p, call.p) and np.array_equal(was_active, active))
+
+    def _tally(self) -> None:
+        now = self.driver.counters()
+        self.tally(dict(zip(library.COUNTER_NAMES, (int(v) for v in now - self.counted))))
+        self.counted = now
+
+    def _failed(self, call: Call, flag: int, t: float) -> Stop:
+        self.at = None
+        # IDAS's message without the name of the function that wrote it, explained as on CasADi's
+        said = self.driver.message().split(": ", 1)[-1]
+        reason = idas_reason(f'returned "{_flag_name(flag)}"', said)
+        failure = SimulationFailed(f"simulation of {self.model.name} failed at t = {t:.10g}: {reason}",
+                                   float(t), reason)
+        return Stop(FAILED, call.t0, call.x0, call.z0, failure=failure)
+
+
+# a relation's operator in its event label (str of the sympy relational, compiler/lower/events.py)
+# -> the side of its zero function g = lhs - rhs that g = 0 shares the relation's value with
+_ZERO_SIDE = {">": -1, ">=": 1, "<": 1, "<=": -1}
+
+
+def zero_sides(watch: Watch) -> np.ndarray:
+    """The side (+1, -1) each watched row's exact zero counts as: for an event row of a relation,
+    the side where the relation has the value it has at zero, so that leaving zero towards the
+    other value is a sign change IDAS finds (`x < 0` from x = 0 falling); -1 for a bound or a
+    state set (zero is outside: positive inside) and for kinks without a relation (min, abs)."""
+    sides = []
+    for kind, what in watch.labels:
+        words = str(what).split(" ") if kind == "event" else []
+        operators = [w for w in words if w in _ZERO_SIDE]
+        sides.append(_ZERO_SIDE[operators[0]] if len(operators) == 1 else -1)
+    return np.array(sides, dtype=int)
+
+
+def _flag_name(flag: int) -> str:
+    return library.IDA_FLAGS.get(flag, f"IDAS flag {flag}")

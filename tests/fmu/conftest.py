@@ -1,0 +1,41 @@
+"""FMUs exported once per test session, and a fresh virtual environment with FMPy and not dyadc."""
+from __future__ import annotations
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from compiler import api
+
+MODELS = str(Path(__file__).resolve().parent.parent / "models")
+
+
+@pytest.fixture(scope="session")
+def exported(tmp_path_factory):
+    """model name -> its FMU (exported on first use)."""
+    folder = tmp_path_factory.mktemp("fmus")
+    made: dict[str, Path] = {}
+
+    def fmu(model: str, kind: str = "me", **params: float) -> Path:
+        key = f"{model} {kind}" + "".join(f" {k}={v}" for k, v in sorted(params.items()))
+        if key not in made:
+            path = folder / f"{model.replace('.', '_')}{len(made)}.fmu"
+            made[key] = api.export_fmu(model, path, lib_dirs=[MODELS], params=params or None, kind=kind)
+        return made[key]
+    return fmu
+
+
+@pytest.fixture(scope="session")
+def fresh_python(tmp_path_factory) -> Path:
+    """The python of a new virtual environment holding FMPy (from the package index) and not
+    dyadc, made once per session."""
+    folder = tmp_path_factory.mktemp("fresh-venv")
+    subprocess.run([sys.executable, "-m", "venv", str(folder)], check=True, capture_output=True, timeout=300)
+    python = folder / "bin" / "python"
+    done = subprocess.run([str(python), "-m", "pip", "install", "--quiet", "--disable-pip-version-check", "fmpy"], capture_output=True,
+                          text=True, timeout=600)
+    if done.returncode != 0:
+        pytest.fail(f"pip could not install fmpy into a fresh environment: {done.stderr[-2000:]}")
+    return python
