@@ -19,7 +19,12 @@ that writes Python's bytecode (into a temporary folder) as installing a package 
 more run of each kind under `python -X importtime` gives the import profile (top-level packages,
 cumulative, in ms) and a run in process gives the compile stages.
 
+With --codegen the rows are the first (uncached) and the second (cached) run on compiled C, the
+default where a C compiler is present, and on CasADi's VM (`--codegen vm`); C's CPU includes the
+compiler processes (os.wait4 counts the child's waited-for children).
+
     .venv/bin/python benchmarks/bench_coldstart.py [--repeat 5] [--profile] [--ref HEAD] [--model M --stop T]
+    .venv/bin/python benchmarks/bench_coldstart.py --codegen [--repeat 5] [--model M --stop T]
 """
 from __future__ import annotations
 
@@ -132,6 +137,24 @@ def measure(model: str, stop: float, repeat: int) -> dict[str, list[tuple[float,
     return samples
 
 
+def measure_codegen(model: str, stop: float, repeat: int) -> dict[str, list[tuple[float, float]]]:
+    """First and second runs on C and on the VM, interleaved, each first run with an empty cache."""
+    run = ["simulate", model, "--stop", str(stop)]
+    samples: dict[str, list[tuple[float, float]]] = {"uncached, C": [], "uncached, VM": [],
+                                                      "cached, C": [], "cached, VM": []}
+    with tempfile.TemporaryDirectory(prefix="dyadc-bench-cache-") as scratch:
+        bytecode = Path(scratch) / "bytecode"
+        timed_run(dyadc(*run), environment(Path(scratch) / "warm-up", bytecode))
+        for attempt in range(repeat):
+            for code, extra in (("C", []), ("VM", ["--codegen", "vm"])):
+                cache = Path(scratch) / f"cache-{code}-{attempt}"
+                env = environment(cache, bytecode)
+                samples[f"uncached, {code}"].append(timed_run(dyadc(*run, *extra), env))
+                samples[f"cached, {code}"].append(timed_run(dyadc(*run, *extra), env))
+                shutil.rmtree(cache, ignore_errors=True)
+    return samples
+
+
 def import_profile(model: str, stop: float, cached: bool) -> list[tuple[str, float]]:
     """Top-level imports of one run, (name, cumulative ms), largest first."""
     with tempfile.TemporaryDirectory(prefix="dyadc-bench-cache-") as scratch:
@@ -180,6 +203,7 @@ def main() -> int:
     parser.add_argument("--stop", type=float, default=12.0)
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--profile", action="store_true", help="also the import and stage profiles")
+    parser.add_argument("--codegen", action="store_true", help="first and second runs on C and on the VM")
     parser.add_argument("--ref", metavar="COMMIT", help="measure this commit (e.g. HEAD) instead of the "
                                                        "work tree with its uncommitted edits")
     args = parser.parse_args()
@@ -194,7 +218,7 @@ def main() -> int:
 
 
 def report(args) -> int:
-    samples = measure(args.model, args.stop, args.repeat)
+    samples = (measure_codegen if args.codegen else measure)(args.model, args.stop, args.repeat)
     print(f"dyadc simulate {args.model} --stop {args.stop:g}: medians of {args.repeat} new processes "
           f"(load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores)\n")
     print("| run | wall s | CPU s | wall, each run | CPU, each run |")

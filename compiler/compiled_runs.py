@@ -18,44 +18,69 @@ def simulate_compiled(compilation: Compilation | CachedCompilation, stop: float,
                       params: Mapping[str, float] | None = None, progress: bool | None = None,
                       integrator_options: Mapping | None = None, max_step: float | None = None,
                       max_steps: int = 100000, signals: Sequence[str] | None = None,
-                      bounds: str = "warn", integrator=None) -> runtime.Result:
+                      bounds: str = "warn", integrator=None, codegen: str | None = None) -> runtime.Result:
     """Run a compilation through the runtime's one driver (with the state-set switcher when its
     state set may have to change); failures become located DyadErrors. `integrator_options` go to
     CasADi's IDAS interface, e.g. {"suppress_algebraic": False} to keep the algebraic unknowns in
     the error test (default: suppressed, see compiler/runtime/idas.py). `bounds`: a declared
     min/max the run leaves gives a BoundWarning and the run goes on ("warn"), or stops it with a
     located error ("error"). `integrator`: what makes the run's integrators (SimulationOptions;
-    compiler.native.make_integrator for the native IDAS driver). A compilation from the
+    compiler.native.make_integrator for the native IDAS driver). The model runs on the code chosen
+    for it (compiler/cache/native.py: compiled C where a C compiler is present, built now if need
+    be; `codegen` "c" or "vm" asks for one), reported as `result.stats["codegen"]`. A compilation from the
     cache runs its model alone; where a located error needs the sources (a parameter without a
     value, a failure at the start), the model is compiled from them and the run repeated."""
     arguments = dict(start=start, rtol=rtol, atol=atol, points=points, saveat=saveat, params=params,
                      progress=progress, integrator_options=integrator_options, max_step=max_step,
                      max_steps=max_steps, signals=signals, bounds=bounds, integrator=integrator)
     options = runtime.SimulationOptions(stop=stop, **arguments)
+    model = model_for_runs(compilation, codegen)
     if not hasattr(compilation, "flat"):
-        return _simulate_cached(compilation, options, stop, arguments)
+        return _simulate_cached(compilation, model, options, stop, arguments)
     # a model switches among its own variants, or those made from its universal system
     # (runtime/universal.py: the same in-process, from the cache, in generated code and in sweep workers)
     from compiler.run_checks import checked_run       # missing parameter values, singular start
     with checked_run(compilation, params, start), runtime_errors(compilation.reduced, compilation.flat):
-        result = runtime.simulate(compilation.model, options=options)
-    return _with_compile_times(result, compilation.timings)
+        result = runtime.simulate(model, options=options)
+    return _with_compile_times(result, compilation.timings, model)
 
 
-def _simulate_cached(cached: CachedCompilation, options: runtime.SimulationOptions, stop: float,
+def model_for_runs(compilation: Compilation | CachedCompilation, codegen: str | None):
+    """The model the runs of `compilation` take, on their code: the compilation's model itself when
+    its code was chosen, else a copy put on it once (kept with the model: every run of the same
+    compilation gets the same object, and what a run derives, say a state set made from the
+    universal system, is kept in it for the next)."""
+    from compiler.cache.codegen_choice import requested
+    model = compilation.model
+    current = model.metadata.get("codegen")
+    if current is not None and codegen in (None, current):
+        return model
+    codegen = requested(codegen)          # $DYADC_CODEGEN when not given
+
+    def put_on_code():
+        import time
+        from compiler.cache.native import start
+        began = time.perf_counter()
+        chosen = start(model, codegen).finish()
+        compilation.timings["C code"] = time.perf_counter() - began
+        return chosen
+    return model.derived(("on its code", codegen), put_on_code)
+
+
+def _simulate_cached(cached: CachedCompilation, model, options: runtime.SimulationOptions, stop: float,
                      arguments: dict) -> runtime.Result:
     from compiler.pipeline import recompile
 
     def from_sources() -> runtime.Result:
         full = recompile(cached)
-        full.model = cached.model          # the same model (maybe in C), now with its sources
+        full.model = model          # the same model on the same code, now with its sources
         return simulate_compiled(full, stop, **arguments)
 
     given = arguments["params"] or {}
     if any(name not in given for name in cached.needs_values):
         return from_sources()                   # the located "has no value" error
     try:
-        result = runtime.simulate(cached.model, options=options)
+        result = runtime.simulate(model, options=options)
     except runtime.InitializationFailed:
         return from_sources()                   # located at the initial equations
     except runtime.SimulationFailed as err:
@@ -65,13 +90,16 @@ def _simulate_cached(cached: CachedCompilation, options: runtime.SimulationOptio
             return from_sources()
         raise translate_runtime_error(err, declarations=cached.declarations) from None
     except runtime.ModelInputError as err:
-        if any(name not in cached.model.parameters for name in given):
+        if any(name not in model.parameters for name in given):
             return from_sources()       # a structural parameter is named at its declaration
         raise translate_runtime_error(err) from None
-    return _with_compile_times(result, cached.timings)
+    return _with_compile_times(result, cached.timings, model)
 
 
-def _with_compile_times(result: runtime.Result, timings: Mapping[str, float]) -> runtime.Result:
+def _with_compile_times(result: runtime.Result, timings: Mapping[str, float], model) -> runtime.Result:
     result.stats["compile_time"] = sum(timings.values())
     result.stats["compile_timings"] = dict(timings)
+    result.stats["codegen"] = model.metadata.get("codegen", "vm")
+    if model.metadata.get("codegen_why"):
+        result.stats["codegen_why"] = model.metadata["codegen_why"]      # the VM, not asked for
     return result

@@ -98,23 +98,36 @@ def _library(lib_dirs: Sequence[str]) -> Library:
     return Library(lib_dirs, parser=library_trees.parse_file)
 
 
-def compile_or_load(spec: str, lib_dirs: Sequence[str] = (), *,
-                    cache: bool = True) -> Compilation | CachedCompilation:
+def compile_or_load(spec: str, lib_dirs: Sequence[str] = (), *, cache: bool = True,
+                    for_runs: bool = False, codegen: str | None = None,
+                    c_folder: str | None = None) -> Compilation | CachedCompilation:
     """The compiled model of `spec`: from the compilation cache when every source it was compiled
     from is unchanged (a CachedCompilation: model only), else compiled (a Compilation, stored in
     the cache unless its state sets are more than the compiler builds one by one: such a model
     carries its universal system instead and is compiled again at every run).
-    `cache=False` or DYADC_CACHE_DIR=off: compile, read and write nothing."""
+    `cache=False` or DYADC_CACHE_DIR=off: compile, read and write nothing.
+    `for_runs`: the model put on the code its runs take (compiler/cache/native.py; `codegen` "c",
+    "vm" or None: C where a compiler is present), its C built while the compile is stored, its
+    libraries in `c_folder` (default: the C library cache)."""
     if not cache:
-        return compile_spec(spec, lib_dirs, library=_library(lib_dirs))
+        compilation = compile_spec(spec, lib_dirs, library=_library(lib_dirs))
+        if for_runs:
+            _put_on_code(compilation, _start_code(compilation, codegen, c_folder))
+        return compilation
     from compiler.cache import models
     from compiler.cache.store import CacheError
     try:
         found = models.load(spec, lib_dirs)
     except (OSError, CacheError) as err:
         warnings.warn(f"compilation cache not used: {err}", CacheWarning, stacklevel=2)
-        return compile_spec(spec, lib_dirs, library=_library(lib_dirs))
+        return compile_or_load(spec, lib_dirs, cache=False, for_runs=for_runs, codegen=codegen,
+                               c_folder=c_folder)
     if found is not None and _units_reported(found):
+        if for_runs:
+            from compiler.cache import native
+            began = time.perf_counter()
+            found.model = native.cached_on_its_code(found.model, found.key, codegen)
+            found.timings["C code"] = time.perf_counter() - began
         return found
     from compiler.cache import library_trees, parsed
     from compiler.cache.recording import RecordingLibrary
@@ -123,7 +136,9 @@ def compile_or_load(spec: str, lib_dirs: Sequence[str] = (), *,
     compilation = compile_spec(spec, lib_dirs, library=library)
     if parses is not None:
         parses.prune()
+    started = _start_code(compilation, codegen, c_folder) if for_runs else None
     if compilation.dynamic and not getattr(compilation.model, "variants", None):
+        _put_on_code(compilation, started)
         return compilation          # over the variant limit: not stored (docs/cache.md)
     began = time.perf_counter()
     try:
@@ -132,7 +147,26 @@ def compile_or_load(spec: str, lib_dirs: Sequence[str] = (), *,
     except (OSError, CacheError) as err:
         warnings.warn(f"compilation cache not written: {err}", CacheWarning, stacklevel=2)
     compilation.timings["cache write"] = time.perf_counter() - began
+    _put_on_code(compilation, started)
     return compilation
+
+
+def _start_code(compilation: Compilation, codegen: str | None, c_folder: str | None):
+    from compiler.cache import native
+    return native.start(compilation.model, codegen, c_folder)
+
+
+def _put_on_code(compilation: Compilation, started) -> None:
+    """The compilation's model on its code once `started` (a native.Started, or None) is done;
+    a cached model gets the link to its libraries."""
+    if started is None:
+        return
+    compilation.model = started.finish()
+    compilation.timings["C code"] = started.seconds
+    if compilation.cache_key is not None and started.build is not None \
+            and compilation.model.metadata.get("codegen") == "c":
+        from compiler.cache import native
+        native.write_link(compilation.cache_key, started.build)
 
 
 def _units_reported(found: CachedCompilation) -> bool:

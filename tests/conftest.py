@@ -1,7 +1,12 @@
 """The whole suite runs with a compilation cache of its own (docs/cache.md), a fresh temporary
 folder per test process, never the user's: `dyadc simulate` in a test (in process or as a
 subprocess, which inherits the variable) reads and writes only there, and a stale or damaged user
-cache cannot change a verdict. DYADC_CACHE_DIR=off, when set, is kept (the suite without cache)."""
+cache cannot change a verdict. DYADC_CACHE_DIR=off, when set, is kept (the suite without cache).
+
+The C libraries that models run on by default (docs/cache.md, "C code") are content keyed, so one
+folder is shared by every test process of a session (made by the first, which pytest-xdist's
+workers inherit through DYADC_CACHE): a model compiled by several tests is built by gcc once.
+A test that needs a C cache of its own sets DYADC_CACHE (or clears it, as tests/cache/helpers.py)."""
 from __future__ import annotations
 
 import atexit
@@ -9,9 +14,34 @@ import os
 import shutil
 import tempfile
 
+import pytest
+
+from compiler.cache.c_libraries import C_CACHE_VARIABLE
+from compiler.cache.codegen_choice import CODEGEN_VARIABLE
 from compiler.cache.store import CACHE_DIR_VARIABLE, OFF_VALUES
+
+SESSION_C_CACHE = "DYADC_TEST_SESSION_C_CACHE"      # set by the process that made the shared folder
 
 if os.environ.get(CACHE_DIR_VARIABLE, "").strip().lower() not in OFF_VALUES:
     _folder = tempfile.mkdtemp(prefix="dyadc-test-cache-")
     os.environ[CACHE_DIR_VARIABLE] = _folder
     atexit.register(shutil.rmtree, _folder, True)
+
+if os.environ.get(SESSION_C_CACHE) is None:
+    _c_folder = tempfile.mkdtemp(prefix="dyadc-test-c-")
+    os.environ[SESSION_C_CACHE] = os.environ[C_CACHE_VARIABLE] = _c_folder
+    atexit.register(shutil.rmtree, _c_folder, True)
+
+
+@pytest.fixture(scope="module", params=["c", "vm"])
+def each_codegen(request):
+    """Run on compiled C (the default path) and again on CasADi's virtual machine (the path where no
+    C compiler exists): DYADC_CODEGEN set for the module's tests, and for the module-scoped fixtures
+    that take this one. A representative set uses it (events, state sets, the golden excavator, the
+    Test Set problems); every other numerical test runs on the default path alone."""
+    from compiler.lower.ccodegen import find_compiler
+    if request.param == "c" and find_compiler() is None:
+        pytest.skip("no C compiler")
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setenv(CODEGEN_VARIABLE, request.param)
+        yield request.param

@@ -15,7 +15,7 @@ import numpy as np
 
 from compiler import api
 
-from compiler.cache.c_code import compile_c
+from compiler.cache.c_code import compile_c, on_vm
 from compiler.lower import ccodegen
 from compiler.errors import DyadError
 from suite.problems import Problem, contender_module
@@ -43,6 +43,8 @@ class DyadcContender:
             if native.metadata.get("codegen") != "c":
                 raise Failed("; ".join(str(w.message) for w in caught) or "C code generation unavailable")
             self.compilation = dataclasses.replace(self.compilation, model=native)
+        else:
+            self.compilation = dataclasses.replace(self.compilation, model=on_vm(self.compilation.model))
 
     def solve(self, rtol: float, atol: float):
         grid = self.problem.grid

@@ -1,4 +1,5 @@
-"""The cache of compiled C libraries (`--codegen c`): one validated entry per content key.
+"""The cache of compiled C libraries (the default code of runs, native.py): one validated entry per
+content key.
 
 Folder: `c/` in the compilation cache (store.py: $DYADC_CACHE_DIR, else the user's
 cache directory), or $DYADC_CACHE when set (the older name, for this folder alone); made private
@@ -10,10 +11,13 @@ library's size and SHA-256 and is written after it: a library is used only when 
 would otherwise be mapped by dlopen and kill the process with SIGBUS on first use; an empty one
 failed to load on every run and left the model on the slow virtual machine for good.
 
-Writers hold an exclusive lock on `<folder>/.lock` while they check, build and record, so two
-processes that need the same entry build it once. Everything a writer makes appears under its
-final name by `os.replace` only, never half-written; and under the lock no other build is
-running, so every leftover build folder or temp file is from a run that was killed: it goes.
+A writer holds an exclusive lock on its entry, `<folder>/dyad_<key>.lock`, while it checks,
+builds and records, so two processes (or threads) that need the same entry build it once, while
+different entries build at once; and a shared lock on `<folder>/.lock`, which `dyadc cache clear`
+takes exclusively. Everything a writer makes appears under its final name by `os.replace` only,
+never half-written; under the entry's lock no other build of that entry is running, so a
+leftover build folder or temp file of that entry is from a run that was killed: it goes (and so
+does any leftover over an hour old, longer than a build may take).
 """
 from __future__ import annotations
 
@@ -24,8 +28,9 @@ import json
 import os
 import shutil
 import tempfile
+import time
 from pathlib import Path
-from typing import Callable
+from typing import Callable, Iterator
 
 from compiler.cache.store import CacheError, cache_root, folder_lock, private_folder
 
@@ -37,6 +42,7 @@ C_CACHE_VARIABLE = "DYADC_CACHE"
 ENTRY_FORMAT = 2
 BUILD_PREFIX = "build-"
 _OLD_BUILD_PREFIX = "dyadc-cc-"        # build folders of dyadc versions before the validated cache
+STALE_AFTER = 3600                     # seconds: no build takes this long (COMPILE_TIMEOUT is 600)
 
 __all__ = ["CacheError", "cache_dir", "discard", "fetch_or_build", "private_folder", "valid_entry"]
 _scratch_cache: list[Path] = []       # the temporary folder used while the cache is turned off
@@ -91,12 +97,12 @@ def fetch_or_build(folder: Path, key: str, build: Callable[[Path], Path]) -> tup
     if found is not None:
         return found, False
     private_folder(folder)
-    with _build_lock(folder):
+    with _entry_lock(folder, key):
         found = valid_entry(folder, key)          # another process may have built it meanwhile
         if found is not None:
             return found, False
-        remove_leftovers(folder)
-        scratch = Path(_make_scratch(folder))
+        remove_leftovers(folder, key)
+        scratch = Path(tempfile.mkdtemp(prefix=f"{BUILD_PREFIX}{key}-", dir=folder))
         try:
             built = build(scratch)
             library = library_path(folder, key)
@@ -111,18 +117,23 @@ def fetch_or_build(folder: Path, key: str, build: Callable[[Path], Path]) -> tup
 
 def discard(folder: Path, key: str) -> None:
     """Forget entry `key` (a library that passed its checks but does not load): rebuilt next time."""
-    with _build_lock(folder):
+    with _entry_lock(folder, key):
         for path in (_record_path(folder, key), library_path(folder, key)):
             with contextlib.suppress(FileNotFoundError):
                 path.unlink()
 
 
-def remove_leftovers(folder: Path) -> list[Path]:
-    """Delete what killed runs left: build folders, temp files, libraries without a record.
-    Call only while holding the build lock (no live build then owns any of them)."""
+def remove_leftovers(folder: Path, key: str) -> list[Path]:
+    """Delete what killed runs left: build folders, temp files, libraries without a record, of
+    entry `key` (call only while holding its lock: no live build then owns them), and those of
+    any entry once they are older than STALE_AFTER."""
     removed = []
+    stale_before = time.time() - STALE_AFTER
     for path in folder.iterdir():
         name = path.name
+        if not (name.startswith((f"{BUILD_PREFIX}{key}-", f".dyad_{key}.", f"dyad_{key}."))
+                or path.lstat().st_mtime < stale_before):
+            continue
         if path.is_dir() and name.startswith((BUILD_PREFIX, _OLD_BUILD_PREFIX)):
             shutil.rmtree(path, ignore_errors=True)
         elif name.endswith(".tmp") or (name.startswith("dyad_") and name.endswith(".so")
@@ -132,10 +143,6 @@ def remove_leftovers(folder: Path) -> list[Path]:
             continue
         removed.append(path)
     return removed
-
-
-def _make_scratch(folder: Path) -> str:
-    return tempfile.mkdtemp(prefix=BUILD_PREFIX, dir=folder)
 
 
 def _replace_text(path: Path, text: str) -> None:
@@ -149,5 +156,9 @@ def _replace_text(path: Path, text: str) -> None:
         tmp.unlink(missing_ok=True)
 
 
-def _build_lock(folder: Path) -> contextlib.AbstractContextManager[None]:
-    return folder_lock(folder)       # released by the kernel if this process dies
+@contextlib.contextmanager
+def _entry_lock(folder: Path, key: str) -> Iterator[None]:
+    """The folder's lock shared (`dyadc cache clear` waits), then the entry's own exclusive lock;
+    both released by the kernel if this process dies."""
+    with folder_lock(folder, shared=True), folder_lock(folder, f"dyad_{key}.lock"):
+        yield

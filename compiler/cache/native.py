@@ -1,35 +1,77 @@
-"""`dyadc simulate --codegen c` with the cache: the C library of a cached model is used when the
-cache has it; otherwise it is built by a second process while this one already runs the model on
-CasADi's virtual machine, and the next run uses it.
+"""A compiled model put on its code before its first run (codegen_choice.py): on C where a C
+compiler is present, built before the run (c_code.py), so every run of a model takes the same path
+and no number depends on whether a build had finished.
 
-The builder (a Python process running `build(ENTRY_KEY)`) reads the compiled model from the
-cache entry, generates and compiles its C code (c_code.py: the validated C library cache of
-c_libraries.py, one build per library even when several processes ask) and writes
-a *link* `models/<entry key>.c-<hash of compiler and flags>.link` naming the library's key, so
-that a later run finds the library without generating C again. The run that started it waits
-for it before exiting (a few tenths of a second after a short run): the next run finds the
-library, and no process is left behind.
+`start` begins the build as soon as the model is lowered; the caller stores the compiled model
+meanwhile and `Started.finish` waits for it. A model from the compilation cache finds its
+libraries through a *link* `models/<entry key>.c-<hash of compiler and flags>.link` naming the key
+of each library (the model's and each state set's), so that a cached run neither writes C nor
+waits for a compiler; a missing or damaged link, or a library that no longer matches its record,
+means the libraries are built again (content keyed: the same input gives the same library).
 """
 from __future__ import annotations
 
 import atexit
+import json
 import re
 import shutil
-import subprocess
-import sys
 import tempfile
 import time
 from pathlib import Path
 
-import compiler
 from compiler.cache import c_libraries, keys
-from compiler.cache.c_code import compile_c
-from compiler.cache.models import models_folder, read_entry
+from compiler.cache.c_code import CBuild, on_vm, start_c_build, with_library
+from compiler.cache.codegen_choice import chosen, requested
+from compiler.cache.models import models_folder
 from compiler.cache.store import read_sealed, write_sealed
 
 LINK_SUFFIX = ".link"
 _KEY = re.compile(r"[0-9a-f]{16,64}")
 
+
+class Started:
+    """A model's code on its way: `finish()` gives the model on it (C, or the VM)."""
+
+    def __init__(self, model, build: CBuild | None, why_vm: str | None):
+        self.model, self.build, self.why_vm = model, build, why_vm
+        self.seconds = 0.0                   # the wall time spent starting and waiting
+
+    def finish(self):
+        began = time.perf_counter()
+        model = on_vm(self.model, self.why_vm) if self.build is None else self.build.finish()
+        self.seconds += time.perf_counter() - began
+        return model
+
+
+def start(model, codegen: str | None = None, directory: Path | None = None) -> Started:
+    """Begin putting `model` on its code: `codegen` "c", "vm" or None (C where a compiler is
+    present; $DYADC_CODEGEN may say otherwise); libraries in `directory` (default: the C cache)."""
+    began = time.perf_counter()
+    from compiler.lower import ccodegen
+    choice = requested(codegen)
+    if choice == "vm":
+        started = Started(model, None, None)
+    elif choice is None and ccodegen.find_compiler() is None:
+        started = Started(model, None, "no C compiler (gcc, cc or clang) found")
+    else:
+        started = Started(model, start_c_build(model, directory), None)
+    started.seconds = time.perf_counter() - began
+    return started
+
+
+def on_its_code(model, codegen: str | None = None):
+    """`model` on its code, built now if need be; a model whose code was chosen stays as it is."""
+    return model if chosen(model) is not None else start(model, codegen).finish()
+
+
+def temporary_folder() -> Path:
+    """A folder for libraries that nothing keeps (`--no-cache`), removed when the process ends."""
+    scratch = Path(tempfile.mkdtemp(prefix="dyadc-c-"))
+    atexit.register(shutil.rmtree, scratch, True)
+    return scratch
+
+
+# -- links from cached models to their libraries ------------------------------------------------
 
 def _link_path(folder: Path, entry_key: str, compiler: str) -> Path:
     from compiler.lower.ccodegen import FLAGS
@@ -37,90 +79,54 @@ def _link_path(folder: Path, entry_key: str, compiler: str) -> Path:
     return folder / f"{entry_key}.c-{tag}{LINK_SUFFIX}"
 
 
-def cached_library(entry_key: str, compiler: str) -> Path | None:
-    """The valid cached C library of entry `entry_key`, if one was built."""
+def _part_name(which: frozenset | None) -> str:
+    return "" if which is None else ",".join(sorted(which))
+
+
+def linked_model(model, entry_key: str, compiler: str):
+    """The cached `model` on the libraries its link names, or None (no link, a damaged one, or a
+    library that is gone, changed or does not load)."""
     folder = models_folder()
-    if folder is None:
+    payload = read_sealed(_link_path(folder, entry_key, compiler)) if folder is not None else None
+    try:
+        named = json.loads(payload) if payload is not None else None
+    except ValueError:
         return None
-    payload = read_sealed(_link_path(folder, entry_key, compiler))
-    key = payload.decode("ascii", "replace").strip() if payload is not None else ""
-    if not _KEY.fullmatch(key):               # a key names a file: hexadecimal digits only
-        return None
-    return c_libraries.valid_entry(c_libraries.cache_dir(), key)
-
-
-class BackgroundBuild:
-    """A builder process started for one entry; `finish()` waits for it and says how it went."""
-
-    def __init__(self, entry_key: str):
-        self.began = time.perf_counter()
-        # the builder imports the same compiler package as this process, whatever its folder
-        home = str(Path(compiler.__file__).resolve().parent.parent)
-        code = (f"import sys; sys.path.insert(0, {home!r}); from compiler.cache.native import build; "
-                f"raise SystemExit(build({entry_key!r}))")
-        self.process = subprocess.Popen([sys.executable, "-c", code], stdin=subprocess.DEVNULL,
-                                        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
-
-    def finish(self) -> str:
-        """Wait for the builder; the line to show the user."""
-        _, errors = self.process.communicate()
-        seconds = time.perf_counter() - self.began
-        if self.process.returncode == 0:
-            return (f"built the model's C library in the background ({seconds:.1f} s); the next run "
-                    f"with --codegen c uses it")
-        lines = (errors or "").strip().splitlines()
-        if lines and "unavailable" in lines[-1]:
-            return f"warning: {lines[-1]}"
-        why = lines[-1] if lines else f"the builder stopped with exit status {self.process.returncode}"
-        return f"warning: C code generation unavailable ({why}); this run used the CasADi virtual machine"
-
-
-def use_c_code(compilation, cache: bool = True) -> BackgroundBuild | None:
-    """Put `compilation` on C code: the cached library at once, else (from the cache) a build in
-    the background while this run uses the virtual machine. Without the cache (`cache=False`) the
-    library is built now in a temporary folder; for a model the cache does not hold, or one with
-    several state sets (each needs its library), it is built now into the C cache."""
-    from compiler.lower import ccodegen
-    compiler = ccodegen.find_compiler()
-    key = getattr(compilation, "cache_key", None)
-    if not cache:             # nothing read or kept: a library in a folder removed at exit
-        scratch = Path(tempfile.mkdtemp(prefix="dyadc-c-"))
-        atexit.register(shutil.rmtree, scratch, True)
-        compilation.model = compile_c(compilation.model, scratch)
-        return None
-    if key is None or compiler is None or models_folder() is None or getattr(compilation.model, "variants", None):
-        compilation.model = compile_c(compilation.model)      # (every state set in C)
-        return None
-    library = cached_library(key, compiler)
-    if library is not None:
-        native = compilation.model.with_native_library(library)
-        try:
-            native.native_dae()                # a library that does not load is rebuilt
-        except (RuntimeError, ValueError):
-            c_libraries.discard(c_libraries.cache_dir(), library.stem.removeprefix("dyad_"))
-        else:
-            compilation.model = native.replace(metadata={**native.metadata, "codegen": "c"})
+    parts = {_part_name(None): model, **{_part_name(k): v for k, v in model.variants.items()}}
+    if not isinstance(named, dict) or set(named) != set(parts) or \
+            not all(isinstance(key, str) and _KEY.fullmatch(key) for key in named.values()):
+        return None                            # a key names a file: hexadecimal digits only
+    native = {}
+    for name, part in parts.items():
+        library = c_libraries.valid_entry(c_libraries.cache_dir(), named[name])
+        native[name] = with_library(part, library) if library is not None else None
+        if native[name] is None:
             return None
-    return BackgroundBuild(key)
+    main = native.pop("")
+    return main.replace(variants={k: native[_part_name(k)] for k in model.variants})
 
 
-def build(entry_key: str) -> str | None:
-    """The builder process: compile the C library of entry `entry_key` and link it. None when it
-    did; else why not (the process exits with it, on its standard error, which
-    BackgroundBuild.finish reads)."""
-    import warnings
-    from compiler.lower import ccodegen
-    found = read_entry(entry_key)
-    compiler = ccodegen.find_compiler()
+def write_link(entry_key: str, build: CBuild) -> None:
+    """Record which libraries the cached model `entry_key` runs on."""
     folder = models_folder()
-    if found is None or compiler is None or folder is None:
-        return "the cache entry or the C compiler is gone"
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", ccodegen.CodegenWarning)
-        native = compile_c(found[0])
-    if native.native_library is None:
-        return next((str(w.message) for w in caught if issubclass(w.category, ccodegen.CodegenWarning)),
-                    "no library")
-    library = Path(native.native_library)
-    write_sealed(_link_path(folder, entry_key, compiler), library.stem.removeprefix("dyad_").encode("ascii"))
-    return None
+    if folder is None or build.compiler is None or len(build.keys) != 1 + len(build.model.variants):
+        return
+    named = {_part_name(which): key for which, key in build.keys.items()}
+    write_sealed(_link_path(folder, entry_key, build.compiler),
+                 json.dumps(named, sort_keys=True).encode("ascii"))
+
+
+def cached_on_its_code(model, entry_key: str, codegen: str | None = None):
+    """A cached model on its code: on C through its link when it has one, else built now (and
+    linked for the next run)."""
+    from compiler.lower import ccodegen
+    compiler = ccodegen.find_compiler()
+    if requested(codegen) != "vm" and compiler is not None:
+        linked = linked_model(model, entry_key, compiler)
+        if linked is not None:
+            return linked
+    started = start(model, codegen)
+    native = started.finish()
+    if chosen(native) == "c":
+        write_link(entry_key, started.build)
+    return native

@@ -4,7 +4,7 @@ The folder is $DYADC_CACHE_DIR, else the user's cache directory (platformdirs: ~
 Linux, ~/Library/Caches/dyadc on macOS, %LOCALAPPDATA%\\dyadc\\Cache on Windows);
 DYADC_CACHE_DIR=off turns the cache off. It holds `models/` (compiled models and the manifests
 that find them), `parsed/` (trees of parsed source files, parsed.py) and `c/` (shared libraries
-of `--codegen c`, c_libraries.py).
+of compiled C, c_libraries.py).
 
 Every folder is private (0700, refused when owned by another user), every file 0600. A file is
 sealed: one JSON header line with the size and SHA-256 of the payload that follows. It is written
@@ -115,14 +115,15 @@ def read_sealed(path: Path) -> bytes | None:
 
 
 @contextlib.contextmanager
-def folder_lock(folder: Path) -> Iterator[None]:
-    """An exclusive lock on `<folder>/.lock`, released by the kernel if this process dies."""
+def folder_lock(folder: Path, name: str = ".lock", shared: bool = False) -> Iterator[None]:
+    """A lock on `<folder>/<name>`, exclusive unless `shared` (held by any number of processes,
+    none of them while it is held exclusively); released by the kernel if this process dies."""
     if fcntl is None:
         yield
         return
-    descriptor = os.open(folder / ".lock", os.O_RDWR | os.O_CREAT, FILE_MODE)
+    descriptor = os.open(folder / name, os.O_RDWR | os.O_CREAT, FILE_MODE)
     try:
-        fcntl.flock(descriptor, fcntl.LOCK_EX)
+        fcntl.flock(descriptor, fcntl.LOCK_SH if shared else fcntl.LOCK_EX)
         yield
     finally:
         os.close(descriptor)

@@ -33,11 +33,13 @@ def add_simulate(sub) -> None:
                                                       "(.png, .pdf, .svg, ...)")
     p.add_argument("--events", metavar="FILE.csv", help="write the located state events as CSV: "
                                                         "time,event,direction (rising/falling)")
-    p.add_argument("--codegen", choices=["c"], help="compile the model to C with gcc (the first run "
-                                                    "builds it in the background, later runs use it)")
+    p.add_argument("--codegen", choices=["c", "vm"],
+                   help="the code the model's functions run on: c (compiled with gcc before the first "
+                        "run, kept in the cache) or vm (CasADi's virtual machine); default: c where a C "
+                        "compiler is present ($DYADC_CODEGEN may say otherwise)")
     p.add_argument("--integrator", choices=["casadi", "native"], default="casadi",
                    help="IDAS through CasADi (default), or the native IDAS driver built by `make "
-                        "install` (needs --codegen c; otherwise CasADi's, with a warning)")
+                        "install` (needs the model on C; otherwise CasADi's, with a warning)")
     p.add_argument("--no-cache", action="store_true",
                    help="compile from source and store nothing (docs/cache.md; or DYADC_CACHE_DIR=off)")
     p.add_argument("--keep-partial", action="store_true",
@@ -57,15 +59,6 @@ ADDERS = {"simulate": add_simulate}
 # ----------------------------------------------------------------------------------------- commands
 
 def run_simulate(args) -> int:
-    background: list = []         # a C library being built while the run goes on
-    try:
-        return _simulate(args, background)
-    finally:
-        for build in background:
-            print(build.finish(), file=sys.stderr)
-
-
-def _simulate(args, background: list) -> int:
     from compiler.cli import options
     from compiler.api import simulate_compiled
     from compiler.cli.outputs import check_simulate_outputs, listed, write_result
@@ -82,7 +75,9 @@ def _simulate(args, background: list) -> int:
     options.check_output_size(times, 0, limit, f"--saveat {args.saveat}" if saveat else f"--points {times}")
     overrides = [options.parse_override(text) for text in args.params]
     check_simulate_outputs(args.output, args.plot, args.events)
-    compilation = compile_or_load(args.model, args.lib, cache=not args.no_cache)
+    from compiler.cache.native import temporary_folder      # --no-cache: C kept nowhere
+    compilation = compile_or_load(args.model, args.lib, cache=not args.no_cache, for_runs=True,
+                                  codegen=args.codegen, c_folder=temporary_folder() if args.no_cache else None)
     model = compilation.model
     options.check_output_size(times, len(model.output_names), limit, f"{times:,} output times of {model.name}")
     units = model.metadata.get("units", {})
@@ -92,12 +87,6 @@ def _simulate(args, background: list) -> int:
     if options.overrides_accepted(model, params):    # once, after every option is checked (else the
         for line in start_notes(compilation):       # run reports the override, with its location)
             print(line, file=sys.stderr)
-    if args.codegen == "c":
-        import time
-        from compiler.cache.native import use_c_code
-        began = time.perf_counter()
-        background += filter(None, [use_c_code(compilation, cache=not args.no_cache)])
-        compilation.timings["codegen c"] = time.perf_counter() - began
     try:
         result = simulate_compiled(compilation, args.stop, start=args.start, rtol=args.rtol,
                                    atol=args.atol, points=args.points,
@@ -116,11 +105,19 @@ def _simulate(args, background: list) -> int:
     events = len(result.events)
     print(f"simulated {compilation.model.name} from {args.start:g} to {args.stop:g} s: "
           f"{stats.get('steps')} steps, {events} event{'s' if events != 1 else ''}, compile "
-          f"{stats.get('compile_time', 0):.2f} s, run {stats.get('run_time', 0):.2f} s"
+          f"{stats.get('compile_time', 0):.2f} s, run {stats.get('run_time', 0):.2f} s "
+          f"{code_named(stats)}"
           + (f"; wrote {listed(written)}" if written else ""), file=sys.stderr)
     if not args.output and not args.plot:
         _print_final(result, names)
     return 0
+
+
+def code_named(stats: dict) -> str:
+    """Where the summary line says the run went: "in C", or "on the VM" (and why, not asked)."""
+    if stats.get("codegen") == "c":
+        return "in C"
+    return "on the VM" + (f" ({stats['codegen_why']})" if stats.get("codegen_why") else "")
 
 
 def _integrator(name: str):

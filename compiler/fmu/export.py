@@ -9,7 +9,6 @@ whose state set switches during a run is refused: the FMU integrates one state s
 from __future__ import annotations
 
 import re
-import shutil
 import subprocess
 import tempfile
 import uuid
@@ -22,6 +21,7 @@ from compiler.fmu.description import ModelInfo, model_description
 from compiler.fmu.layout import fmu_layout
 from compiler.fmu.sources import CSources, fmu_sources
 from compiler.runtime import ModelInputError
+from compiler.runtime.native_build import find_compiler
 
 FMI_VERSIONS = (2,)
 KINDS = ("me", "cs")
@@ -116,7 +116,7 @@ def _refuse_switching(compilation) -> None:
 
 
 def compile_binary(sources: CSources, identifier: str, folder: Path) -> Path:
-    compiler = next((found for found in map(shutil.which, ("gcc", "cc", "clang")) if found), None)
+    compiler = find_compiler()
     if compiler is None:
         raise DyadError("exporting an FMU needs a C compiler (gcc, cc or clang) on the PATH",
                         hint="install gcc (e.g. apt-get install gcc) and run the command again")

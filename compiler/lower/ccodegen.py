@@ -1,5 +1,6 @@
-"""`--codegen c`: the C source of a model's DAE, its Jacobian and the functions the runtime
-evaluates at every output point, and the C compiler run that turns it into a shared library.
+"""Compiled C (the code runs take by default; `--codegen c`): the C source of a model's DAE, its
+Jacobian and the functions the runtime evaluates at every output point, and the C compiler runs
+that turn it into a shared library.
 
 CasADi's CodeGenerator writes `dyad_dae(t, x, z, p, u) -> (ode, alg, quad, zero)` and its Jacobian
 `jac_dyad_dae`, which `casadi.external` finds in the same library by name: all IDAS needs. The
@@ -8,11 +9,17 @@ structurally zero), so anything that needs derivatives in t or p (sensitivities)
 model's CasADi functions instead. The per-point functions (`pointwise_functions`: the outputs and
 the polishing's Newton step on the algebraic equations) run in C too. Names of the model never
 reach the C code: every identifier in it is a fixed one of ours (dyad_dae, x, z, p, t). Why these
-choices and the flags (-O1): docs/cache.md, "`--codegen c`". The libraries are built and kept by
+choices and the flags (-Og): docs/cache.md, "C code". The libraries are built and kept by
 compiler/cache/c_code.py.
+
+Every function the library holds is listed once, in `library_functions`: `c_source` writes them
+as one C file (for those that want one, as an FMU does); `c_units` writes them as two files that
+two compiler processes build at once (the DAE's Jacobian is about half of the build), linked by
+`compile_units` into one library with the same exported functions.
 """
 from __future__ import annotations
 
+import functools
 import os
 import subprocess
 import tempfile
@@ -23,9 +30,16 @@ import casadi as ca
 from compiler.runtime import CompiledModel, polishing, watches
 from compiler.runtime.native_build import find_compiler  # noqa: F401  (the one rule, used as ccodegen.find_compiler)
 
-FLAGS = ["-O1", "-fPIC", "-shared"]
+COMPILE_FLAGS = ["-Og", "-fPIC"]
+LINK_FLAGS = ["-shared"]
+FLAGS = COMPILE_FLAGS + LINK_FLAGS          # one file compiled and linked in one go
 COMPILE_TIMEOUT = 600
 SOURCE_NAME = "dyad_dae.c"
+LIBRARY_NAME = "dyad_dae.so"
+# Jacobians of at least this many instructions are compiled in a process of their own (at about
+# 24 characters of C each, gcc takes 0.15-0.2 s for 1500; a file of a small model costs 0.08 s
+# of CPU in one process, 0.11 s in two)
+SPLIT_FROM = 1500
 _DIFFERENTIATED_INPUTS = ("x", "z")
 
 
@@ -87,20 +101,43 @@ def watch_functions(model: CompiledModel) -> list[ca.Function]:
     return [ca.Function("dyad_watch", [x, z, p, t, atol], [rows])] if labels else []
 
 
-def c_source(model: CompiledModel) -> str:
+def library_functions(model: CompiledModel) -> list[ca.Function]:
+    """Every function of the model's C library, the DAE first (the one place to add one)."""
     dae = dae_function(model)
+    return [dae, state_jacobian(dae), *pointwise_functions(model), *watch_functions(model)]
+
+
+def _generated(name: str, functions: list[ca.Function]) -> str:
     with tempfile.TemporaryDirectory(prefix="dyadc-cg-") as tmp:
-        generator = ca.CodeGenerator(Path(SOURCE_NAME).stem, {"with_header": False})
-        generator.add(dae)
-        generator.add(state_jacobian(dae))
-        for function in pointwise_functions(model) + watch_functions(model):
+        generator = ca.CodeGenerator(name, {"with_header": False})
+        for function in functions:
             generator.add(function)
         generator.generate(tmp + os.sep)        # the prefix is the output directory
-        return (Path(tmp) / SOURCE_NAME).read_text(encoding="utf-8")
+        return (Path(tmp) / f"{name}.c").read_text(encoding="utf-8")
 
 
+def c_source(model: CompiledModel) -> str:
+    """The whole library as one C file."""
+    return _generated(Path(SOURCE_NAME).stem, library_functions(model))
+
+
+def c_units(model: CompiledModel) -> dict[str, str]:
+    """The library as C files built side by side: {file name: source}. The DAE's Jacobian is one
+    file, every other function the other (each file's helpers are static: no name clashes); one
+    file when the Jacobian is small (a second compiler process then costs more than it saves)."""
+    functions = library_functions(model)
+    is_jacobian = [f.name() == "jac_" + CompiledModel.NATIVE_DAE_NAME for f in functions]
+    if sum(f.n_instructions() for f, j in zip(functions, is_jacobian) if j) < SPLIT_FROM:
+        return {SOURCE_NAME: _generated(Path(SOURCE_NAME).stem, functions)}
+    units = {"dyad_jacobian": [f for f, j in zip(functions, is_jacobian) if j],
+             "dyad_functions": [f for f, j in zip(functions, is_jacobian) if not j]}
+    return {f"{name}.c": _generated(name, group) for name, group in units.items() if group}
+
+
+@functools.lru_cache(maxsize=None)
 def compiler_identity(compiler: str) -> str:
-    """The first line of `compiler --version` (what a library built by it depends on)."""
+    """The first line of `compiler --version` (what a library built by it depends on); asked once
+    per process and compiler."""
     try:
         done = subprocess.run([compiler, "--version"], capture_output=True, text=True, timeout=30)
         return done.stdout.splitlines()[0] if done.stdout else compiler
@@ -112,10 +149,36 @@ def compile_library(source: str, compiler: str, folder: Path) -> Path:
     """Compile `source` into a shared library inside `folder` (relative names only: the library's
     bytes do not depend on where it was built, so two processes that race to build one library
     make identical files)."""
-    (folder / SOURCE_NAME).write_text(source, encoding="utf-8")
-    built = "dyad_dae.so"
-    done = subprocess.run([compiler, *FLAGS, SOURCE_NAME, "-o", built, "-lm"], cwd=folder,
-                          capture_output=True, text=True, timeout=COMPILE_TIMEOUT)
-    if done.returncode != 0:
-        raise RuntimeError(f"{Path(compiler).name} failed: {done.stderr.strip()[-2000:]}")
-    return folder / built
+    return compile_units({SOURCE_NAME: source}, compiler, folder)
+
+
+def compile_units(units: dict[str, str], compiler: str, folder: Path) -> Path:
+    """Compile each C file of `units` ({file name: source}) in a process of its own, all at once,
+    and link them into one shared library inside `folder` (relative names, as compile_library)."""
+    objects = []
+    for name, source in units.items():
+        (folder / name).write_text(source, encoding="utf-8")
+        objects.append(Path(name).with_suffix(".o").name)
+    running = [subprocess.Popen([compiler, *COMPILE_FLAGS, "-c", name, "-o", obj], cwd=folder,
+                                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+               for name, obj in zip(units, objects)]
+    failures = [_finished(process) for process in running]
+    failure = next((f for f in failures if f), None)
+    if failure is None:
+        failure = _finished(subprocess.Popen([compiler, *LINK_FLAGS, *objects, "-o", LIBRARY_NAME, "-lm"],
+                                             cwd=folder, stdout=subprocess.DEVNULL,
+                                             stderr=subprocess.PIPE, text=True))
+    if failure:
+        raise RuntimeError(f"{Path(compiler).name} failed: {failure[-2000:]}")
+    return folder / LIBRARY_NAME
+
+
+def _finished(process: subprocess.Popen) -> str | None:
+    """None when `process` succeeds, else its error output (it is killed after COMPILE_TIMEOUT)."""
+    try:
+        _, errors = process.communicate(timeout=COMPILE_TIMEOUT)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        process.communicate()
+        return f"no result after {COMPILE_TIMEOUT} s"
+    return None if process.returncode == 0 else (errors.strip() or f"exit status {process.returncode}")

@@ -32,7 +32,7 @@ def _compiled(model: str):
 # ------------------------------------------------------------------ every case of the library
 
 @pytest.mark.parametrize("case", discover(use_env=False), ids=lambda c: c.label)
-def test_metadata_case_matches_its_golden(case):
+def test_metadata_case_matches_its_golden(case, each_codegen):
     report = golden.run_case(_compiled(case.model), case, HERE)
     assert report.passed, report.format()
 

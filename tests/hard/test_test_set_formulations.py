@@ -62,8 +62,9 @@ def test_andrews_as_the_test_set_writes_it_has_six_digits_in_all_27_components(f
         assert found.min() >= 6.0, (group, dict(zip(names, np.round(found, 2))))
 
 
-def test_andrews_as_the_test_set_writes_it_matches_the_published_reference():
+def test_andrews_as_the_test_set_writes_it_matches_the_published_reference(each_codegen):
     result = api.simulate_compiled(api.compile(str(ANDREWS)), andrews.T_END, points=31, rtol=1e-10, atol=1e-10)
+    assert result.stats["codegen"] == each_codegen
     for group, published in (("angles", andrews.REFERENCE_ANGLES), ("rates", andrews.REFERENCE_RATES)):
         assert digits(result, GROUPS[group], published).min() >= 6.0, group
     # The published multipliers are not what the exact equations give at the published state:
@@ -72,8 +73,10 @@ def test_andrews_as_the_test_set_writes_it_matches_the_published_reference():
 
 
 @pytest.fixture(scope="module")
-def transamp():
-    return api.simulate_compiled(api.compile(str(TRANSAMP)), 0.2, points=201, rtol=1e-10, atol=1e-10)
+def transamp(each_codegen):
+    result = api.simulate_compiled(api.compile(str(TRANSAMP)), 0.2, points=201, rtol=1e-10, atol=1e-10)
+    assert result.stats["codegen"] == each_codegen and result.stats["state_switches"]
+    return result
 
 
 def test_the_transistor_amplifier_matches_the_test_set_to_six_digits(transamp):

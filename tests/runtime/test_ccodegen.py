@@ -6,6 +6,7 @@ import os
 import subprocess
 import sys
 
+import casadi as ca
 import numpy as np
 import pytest
 
@@ -99,3 +100,38 @@ def test_the_c_jacobian_has_exact_x_and_z_blocks_and_no_t_or_p_blocks():
             assert jac.sparsity_out(k).nnz() == 0
     assert any(dae.jacobian().sparsity_out(k).nnz() for k in range(jac.n_out())
                if jac.name_out(k).endswith("_p"))             # the pendulum does depend on p
+
+
+@needs_cc
+def test_a_large_jacobian_is_built_apart_into_the_same_library(tmp_path, monkeypatch):
+    model = lower(systems.pendulum_cartesian(0.9))
+    assert list(ccodegen.c_units(model)) == [ccodegen.SOURCE_NAME]          # small: one file
+    monkeypatch.setattr(ccodegen, "SPLIT_FROM", 1)
+    units = ccodegen.c_units(model)
+    assert sorted(units) == ["dyad_functions.c", "dyad_jacobian.c"]
+    assert "jac_dyad_dae" in units["dyad_jacobian.c"] and "jac_dyad_dae" not in units["dyad_functions.c"]
+    folders = {kind: tmp_path / kind for kind in ("one", "two")}
+    for folder in folders.values():
+        folder.mkdir()
+    one = model.with_native_library(ccodegen.compile_library(ccodegen.c_source(model),
+                                                             ccodegen.find_compiler(), folders["one"]))
+    two = model.with_native_library(ccodegen.compile_units(units, ccodegen.find_compiler(), folders["two"]))
+    nx, nz, _ = model.sizes
+    point = [0.3, np.linspace(0.1, 0.4, nx), np.linspace(-1.0, 1.0, nz),
+             np.array(model.parameter_defaults), np.zeros(0)]
+    for role in ("outputs", "polished_outputs"):
+        assert (one.native_function(role) is None) == (two.native_function(role) is None)
+    np.testing.assert_array_equal(np.array(two.native_dae()(*point)[1]), np.array(one.native_dae()(*point)[1]))
+    jacobian = [ca.external("jac_dyad_dae", m.native_library) for m in (one, two)]
+    outputs = [j(*point, *one.native_dae()(*point)) for j in jacobian]
+    for a, b in zip(*outputs):
+        np.testing.assert_array_equal(np.array(b), np.array(a))
+
+
+def test_a_compiler_that_fails_on_one_file_fails_the_build_with_its_message(tmp_path):
+    fake = tmp_path / "picky-cc"
+    fake.write_text("#!/bin/sh\ncase \"$*\" in *jacobian*) echo 'jacobian too big' >&2; exit 1;; esac\n"
+                    "exit 0\n")
+    fake.chmod(0o755)
+    with pytest.raises(RuntimeError, match="picky-cc failed: jacobian too big"):
+        ccodegen.compile_units({"dyad_jacobian.c": "int a;", "dyad_functions.c": "int b;"}, str(fake), tmp_path)

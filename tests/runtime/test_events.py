@@ -3,11 +3,14 @@ input is non-smooth and locates every state-dependent switch, whatever the outpu
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 import pytest
 
 from compiler import api
+
+pytestmark = pytest.mark.usefixtures("each_codegen")     # C and the VM alike
 
 
 def model_file(tmp_path, name: str, body: str) -> str:
@@ -25,6 +28,7 @@ relations
   initial y = 0
   tau * der(y) = (if time >= t_step then 1.0 else 0.0) - y""")
     result = api.simulate(spec, 10.0, rtol=1e-8, atol=1e-10, points=3)      # 0, 5, 10: coarse
+    assert result.stats["codegen"] == os.environ["DYADC_CODEGEN"]
     exact = 1 - math.exp(-(10.0 - 5.0) / 0.7)
     assert result["y"][-1] == pytest.approx(exact, abs=1e-8)
     assert result["y"][1] == pytest.approx(0.0, abs=1e-12)

@@ -13,6 +13,7 @@ import signal
 import stat
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -112,19 +113,23 @@ def test_leftovers_of_a_killed_build_are_removed_by_the_next_build(tmp_path):
                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:
         deadline = time.monotonic() + 120
-        while not list(cache.glob("build-*/dyad_dae.c")) and time.monotonic() < deadline:
+        while not list(cache.glob("build-*/*.c")) and time.monotonic() < deadline:
             time.sleep(0.1)
     finally:
         os.killpg(killed.pid, signal.SIGKILL)
         killed.wait()
     leftovers = list(cache.glob("build-*"))
     assert leftovers and entries(cache) == []
-    (cache / ".dyad_0123.json.999.tmp").write_text("{")
-    (cache / "dyad_0123.so").write_bytes(b"\x7fELF")          # a library without its record
+    old = time.time() - c_cache.STALE_AFTER - 60      # another entry's leftovers, once stale
+    for name, text in ((".dyad_0123.json.999.tmp", "{"), ("dyad_0123.so", "\x7fELF")):
+        (cache / name).write_text(text)
+        os.utime(cache / name, (old, old))
+    (cache / "dyad_4567.so").write_text("\x7fELF")       # another entry's, maybe being built now
     check_run(run_dyadc(cache))
-    names = sorted(p.name for p in cache.iterdir())
-    [library] = entries(cache)
-    assert names == [".lock", library.with_suffix(".json").name, library.name]
+    names = {p.name for p in cache.iterdir()}
+    [library] = [e for e in entries(cache) if e.name != "dyad_4567.so"]
+    assert names == {".lock", library.with_suffix(".json").name, library.with_suffix(".lock").name,
+                     library.name, "dyad_4567.so"}
     assert_valid(cache, library)
 
 
@@ -132,7 +137,7 @@ def test_two_processes_building_one_entry_build_it_once(tmp_path):
     cache = tmp_path / "cache"
     log = tmp_path / "builds.log"
     counting = tmp_path / "counting-cc"
-    counting.write_text(f"#!/bin/sh\n[ \"$1\" = --version ] || echo build >> {log}\n"
+    counting.write_text(f"#!/bin/sh\n[ \"$1\" = -shared ] && echo build >> {log}\n"     # the link
                         f"exec {ccodegen.find_compiler()} \"$@\"\n")
     counting.chmod(0o755)
     env = dict(os.environ, DYADC_CACHE=str(cache), CC=str(counting))
@@ -165,3 +170,36 @@ def test_a_cache_folder_of_another_user_is_refused(tmp_path, monkeypatch):
         model = compile_c(lower(systems.rc_circuit()), cache)
     assert model.native_library is None and model.metadata["codegen"] == "vm"
     assert list(cache.iterdir()) == []
+
+
+def test_two_entries_build_at_once_and_one_entry_once(tmp_path):
+    """A lock per entry: two threads building different libraries run side by side (each build
+    waits for the other to have started: one folder-wide lock would never let them), and a third
+    asking for a library being built waits for it and takes it."""
+    cache = tmp_path / "cache"
+    started = {key: threading.Event() for key in ("aa" * 8, "bb" * 8)}
+    builds = []
+
+    def build(key: str, other: str):
+        def make(scratch: Path) -> Path:
+            builds.append(key)
+            started[key].set()
+            assert started[other].wait(timeout=60), "the other entry's build never started"
+            (scratch / "lib.so").write_bytes(key.encode())
+            return scratch / "lib.so"
+        return make
+
+    (a, b), again = sorted(started), []
+    threads = [threading.Thread(target=lambda k=k, o=o: c_cache.fetch_or_build(cache, k, build(k, o)))
+               for k, o in ((a, b), (b, a))]
+    threads.append(threading.Thread(target=lambda: again.append(
+        c_cache.fetch_or_build(cache, a, lambda scratch: pytest.fail("built twice")))))
+    for thread in threads[:2]:
+        thread.start()
+    started[a].wait(timeout=60)
+    threads[2].start()
+    for thread in threads:
+        thread.join(timeout=120)
+    assert sorted(builds) == [a, b]
+    assert again == [(c_cache.library_path(cache, a), False)]
+    assert c_cache.library_path(cache, b).read_bytes() == b.encode()

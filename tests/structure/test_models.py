@@ -363,6 +363,7 @@ def test_switched_state_sets_are_built_once_and_kept_for_later_runs():
 def test_without_carried_variants_each_state_set_is_made_once_from_the_universal_system():
     # a model over the variant limit carries its universal system instead: a run makes the state
     # sets it reaches from it (runtime/universal.py) and keeps them with the model for later runs
+    from compiler.compiled_runs import model_for_runs
     from compiler.lower.universal_variant import universal_model
     compilation = api.compile("StructureModels.CartesianPendulumHigh", lib_dirs=(str(MODELS),))
     compilation.model = compilation.model.replace(
@@ -371,11 +372,13 @@ def test_without_carried_variants_each_state_set_is_made_once_from_the_universal
     first = api.simulate_compiled(compilation, 2.0, rtol=1e-6, atol=1e-6, points=201)
     assert {tuple(s["to"]) for s in first.switches} == {("x", "u"), ("y", "v")}
     key = ("universal variant", frozenset({"der(der(x))", "der(der(y))", "der(v)", "der(y)"}))
-    made = compilation.model.derived(key, lambda: pytest.fail("the state set (x, u) was not kept"))
+    ran = model_for_runs(compilation, None)          # the compilation's model on the code runs take
+    made = ran.derived(key, lambda: pytest.fail("the state set (x, u) was not kept"))
     assert made.state_names == ["x", "u"]
     again = api.simulate_compiled(compilation, 2.0, rtol=1e-6, atol=1e-6, points=201)
     assert [s["time"] for s in again.switches] == [s["time"] for s in first.switches]
-    assert compilation.model.derived(key, lambda: pytest.fail("made again")) is made
+    assert model_for_runs(compilation, None) is ran
+    assert ran.derived(key, lambda: pytest.fail("made again")) is made
 
 
 @pytest.mark.skipif(__import__("compiler.lower.ccodegen", fromlist=["x"]).find_compiler() is None,
@@ -386,8 +389,9 @@ def test_c_code_run_stays_in_c_code_in_every_state_set(tmp_path, monkeypatch):
     vm = api.compile("StructureModels.CartesianPendulumHigh", lib_dirs=(str(MODELS),))
     native = api.compile("StructureModels.CartesianPendulumHigh", lib_dirs=(str(MODELS),))
     native.model = compile_c(native.model)
-    a = api.simulate_compiled(vm, 3.0, rtol=1e-8, atol=1e-8, points=301)
+    a = api.simulate_compiled(vm, 3.0, rtol=1e-8, atol=1e-8, points=301, codegen="vm")
     b = api.simulate_compiled(native, 3.0, rtol=1e-8, atol=1e-8, points=301)
+    assert (a.stats["codegen"], b.stats["codegen"]) == ("vm", "c")
     assert len(b.stats["state_switches"]) >= 4
     assert {v.metadata.get("codegen") for v in native.model.variants.values()} == {"c"}
     # same equations, different evaluation order: agreement far inside the tolerance's error
