@@ -79,7 +79,8 @@ def test_a_vanishing_pivot_is_still_named(tmp_path):
 def test_a_mass_matrix_that_degenerates_is_named_by_its_vanishing_pivot(tmp_path):
     # coupled (c = 0.5), the mass matrix [[m1 - time, c cos(th)], [c cos(th), m2]] is singular
     # where (m1 - time) m2 = c^2 cos(th)^2, before m1 - time itself reaches 0: the pivot that
-    # vanishes is the Schur complement m2 - c^2 cos^2 / (m1 - time), in no flat equation
+    # vanishes is a Schur complement (in no flat equation); the block of der(v) and der(u) is named
+    # by its first unknown, der(v) since the start-point state choice (structure/start_point.py)
     compiled(tmp_path, "(m1 - time)")
     with pytest.raises(DyadError) as caught:
         api.simulate(str(tmp_path / "Coupled.dyad"), 3.0)
@@ -89,6 +90,6 @@ def test_a_mass_matrix_that_degenerates_is_named_by_its_vanishing_pivot(tmp_path
         lo, hi = (middle, hi) if (2 - middle) - 0.25 * math.cos(middle) ** 2 > 0 else (lo, middle)
     assert caught.value.time_reached == pytest.approx(lo, abs=1e-3)
     message = caught.value.format()
-    assert "the equations solved together for der(u) become singular: the smallest singular value " \
+    assert "the equations solved together for der(v) become singular: the smallest singular value " \
            "of their Jacobian reaches 0" in message, message
     assert "IDA_" in message.split("note: the solver reported:")[1]
