@@ -1,5 +1,5 @@
 """The arguments several `dyadc` commands share: MODEL, the library folders, the element limit,
-the units check's mode."""
+the units check's mode, the parameter values."""
 from __future__ import annotations
 
 import argparse
@@ -24,3 +24,8 @@ def add_model_arguments(p: argparse.ArgumentParser) -> None:
 def add_units_argument(p: argparse.ArgumentParser) -> None:
     from compiler.units import mode
     p.add_argument("--units", choices=mode.MODES, default=None, help=mode.HELP)
+
+
+def add_params_argument(p: argparse.ArgumentParser, help: str) -> None:
+    """`-p NAME=VALUE[UNIT]` (repeatable) into `args.params`; `help` says what the value sets."""
+    p.add_argument("-p", dest="params", action="append", default=[], metavar="NAME=VALUE[UNIT]", help=help)

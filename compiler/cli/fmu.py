@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sys
 
-from compiler.cli.arguments import add_lib_argument, add_units_argument
+from compiler.cli.arguments import add_lib_argument, add_params_argument, add_units_argument
 
 FMU_HELP = "export a model as an FMU (FMI 2.0, Model Exchange or Co-Simulation) for other tools"
 
@@ -22,8 +22,7 @@ def add_fmu(sub) -> None:
     p.add_argument("--kind", default="me", metavar="KIND",
                    help="me: Model Exchange (the importer integrates; default); cs: Co-Simulation (the FMU "
                         "integrates itself, TR-BDF2 at the experiment's tolerance)")
-    p.add_argument("-p", dest="params", action="append", default=[], metavar="NAME=VALUE[UNIT]",
-                   help="the start value of a parameter (repeatable)")
+    add_params_argument(p, "the start value of a parameter (repeatable)")
     p.add_argument("--stop", type=float, metavar="T", help="the stop time of the FMU's default experiment")
     p.set_defaults(run=run_fmu)
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import sys
 
-from compiler.cli.arguments import add_lib_argument, add_units_argument
+from compiler.cli.arguments import add_lib_argument, add_params_argument, add_units_argument
 
 LINEARIZE_HELP = "linearize a model at an operating point: (A, B, C, D) from inputs to outputs"
 CLOSED_LOOP = ("sensitivity", "comp_sensitivity", "loop_transfer")
@@ -30,8 +30,7 @@ def add_linearize(sub) -> None:
                        help="linearize at a steady state found by Newton from the initial point")
     p.add_argument("--op", action="append", default=[], metavar="NAME=VALUE",
                    help="the value of an input at the operating point (default 0; repeatable)")
-    p.add_argument("-p", dest="params", action="append", default=[], metavar="NAME=VALUE[UNIT]",
-                   help="override a parameter (repeatable)")
+    add_params_argument(p, "override a parameter (repeatable)")
     p.add_argument("--open", nargs="+", default=[], metavar="NAME",
                    help="analysis points whose connection is removed")
     closed = p.add_mutually_exclusive_group()

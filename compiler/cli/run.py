@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from compiler.cli.arguments import add_lib_argument, add_units_argument
+from compiler.cli.arguments import add_lib_argument, add_params_argument, add_units_argument
 
 RUN_HELP = ("run an `analysis` block (TransientAnalysis; LinearAnalysis, ClosedLoopAnalysis, "
             "ClosedLoopSensitivityAnalysis) and write its result (CSV, or JSON and plots)")
@@ -20,8 +20,7 @@ def add_run(sub) -> None:
                        "path/File.dyad:Name, path/File.dyad (its one analysis) or a qualified name.")
     p.add_argument("analysis", metavar="ANALYSIS", help="analysis file:Name or qualified name")
     add_lib_argument(p)
-    p.add_argument("-p", dest="params", action="append", default=[], metavar="NAME=VALUE[UNIT]",
-                   help="override an analysis parameter, else a model parameter (repeatable)")
+    add_params_argument(p, "override an analysis parameter, else a model parameter (repeatable)")
     p.add_argument("--points", type=int, default=501, metavar="N",
                    help="output points when the analysis gives no saveat (default 501)")
     p.add_argument("--vars", nargs="+", metavar="NAME", help="signals to write (default: all)")

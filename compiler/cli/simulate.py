@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 import sys
 
-from compiler.cli.arguments import add_model_arguments
+from compiler.cli.arguments import add_model_arguments, add_params_argument
 from compiler.errors import Note, SimulationError
 
 
@@ -22,9 +22,8 @@ def add_simulate(sub) -> None:
     grid.add_argument("--saveat", metavar="TIMES",
                       help="output times: DT (every DT, --stop included), a list T1,T2,... or a range "
                            "FIRST:STEP:LAST")
-    p.add_argument("-p", dest="params", action="append", default=[], metavar="NAME=VALUE[UNIT]",
-                   help="override a parameter by dotted path, optionally with a unit converted to the "
-                        "declared one, e.g. -p L=100mm (repeatable)")
+    add_params_argument(p, "override a parameter by dotted path, optionally with a unit converted to the "
+                           "declared one, e.g. -p L=100mm (repeatable)")
     p.add_argument("--vars", nargs="+", metavar="NAME", help="signals to write (default: all); a name "
                    "with * or ? is a pattern, e.g. 'body.*' ([ stays an index: r[1])")
     p.add_argument("--output", metavar="FILE",
