@@ -104,7 +104,15 @@ def fetch_or_build(folder: Path, key: str, build: Callable[[Path], Path]) -> tup
         remove_leftovers(folder, key)
         scratch = Path(tempfile.mkdtemp(prefix=f"{BUILD_PREFIX}{key}-", dir=folder))
         try:
-            built = build(scratch)
+            try:
+                built = build(scratch)
+            except FileNotFoundError:
+                if scratch.is_dir():
+                    raise
+                # The build folder vanished under a running build (seen in the suite's shared
+                # cache, cause not found yet): build once more in a new one.
+                scratch = Path(tempfile.mkdtemp(prefix=f"{BUILD_PREFIX}{key}-", dir=folder))
+                built = build(scratch)
             library = library_path(folder, key)
             record = {"format": ENTRY_FORMAT, "size": built.stat().st_size, "sha256": _sha256(built)}
             built.chmod(0o700)                    # private, like everything in the cache
