@@ -106,11 +106,11 @@ def fetch_or_build(folder: Path, key: str, build: Callable[[Path], Path]) -> tup
         try:
             try:
                 built = build(scratch)
-            except FileNotFoundError:
+            except (OSError, RuntimeError):
                 if scratch.is_dir():
                     raise
-                # The build folder vanished under a running build (seen in the suite's shared
-                # cache, cause not found yet): build once more in a new one.
+                # The build folder went away under the build (nothing of ours removes it while
+                # the entry's lock is held; a user's tmp cleaner can): build once more.
                 scratch = Path(tempfile.mkdtemp(prefix=f"{BUILD_PREFIX}{key}-", dir=folder))
                 built = build(scratch)
             library = library_path(folder, key)

@@ -146,31 +146,34 @@ def compiler_identity(compiler: str) -> str:
 
 
 def compile_library(source: str, compiler: str, folder: Path) -> Path:
-    """Compile `source` into a shared library inside `folder` (relative names only: the library's
-    bytes do not depend on where it was built, so two processes that race to build one library
-    make identical files)."""
+    """Compile `source` into a shared library inside `folder`."""
     return compile_units({SOURCE_NAME: source}, compiler, folder)
 
 
 def compile_units(units: dict[str, str], compiler: str, folder: Path) -> Path:
     """Compile each C file of `units` ({file name: source}) in a process of its own, all at once,
-    and link them into one shared library inside `folder` (relative names, as compile_library)."""
+    and link them into one shared library inside `folder`.
+
+    Paths are absolute and the compiler runs in this process's folder: no `cwd=`, whose chdir in
+    the child failed now and then with ENOENT while the suite's processes shared a cache folder.
+    The library's bytes still do not depend on the folder (gcc records the file's base name)."""
+    folder = Path(folder).resolve()
     objects = []
     for name, source in units.items():
         (folder / name).write_text(source, encoding="utf-8")
-        objects.append(Path(name).with_suffix(".o").name)
-    running = [subprocess.Popen([compiler, *COMPILE_FLAGS, "-c", name, "-o", obj], cwd=folder,
+        objects.append(str(folder / Path(name).with_suffix(".o").name))
+    running = [subprocess.Popen([compiler, *COMPILE_FLAGS, "-c", str(folder / name), "-o", obj],
                                 stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
                for name, obj in zip(units, objects)]
     failures = [_finished(process) for process in running]
     failure = next((f for f in failures if f), None)
+    library = folder / LIBRARY_NAME
     if failure is None:
-        failure = _finished(subprocess.Popen([compiler, *LINK_FLAGS, *objects, "-o", LIBRARY_NAME, "-lm"],
-                                             cwd=folder, stdout=subprocess.DEVNULL,
-                                             stderr=subprocess.PIPE, text=True))
+        failure = _finished(subprocess.Popen([compiler, *LINK_FLAGS, *objects, "-o", str(library), "-lm"],
+                                             stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True))
     if failure:
         raise RuntimeError(f"{Path(compiler).name} failed: {failure[-2000:]}")
-    return folder / LIBRARY_NAME
+    return library
 
 
 def _finished(process: subprocess.Popen) -> str | None:

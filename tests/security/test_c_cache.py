@@ -203,3 +203,48 @@ def test_two_entries_build_at_once_and_one_entry_once(tmp_path):
     assert sorted(builds) == [a, b]
     assert again == [(c_cache.library_path(cache, a), False)]
     assert c_cache.library_path(cache, b).read_bytes() == b.encode()
+
+
+def test_a_build_whose_folder_is_removed_under_it_is_built_again_in_a_new_one(tmp_path):
+    cache, folders = tmp_path / "cache", []
+
+    def build(scratch: Path) -> Path:
+        folders.append(scratch)
+        if len(folders) == 1:                      # say, a tmp cleaner took the folder
+            scratch.rmdir()
+            raise RuntimeError("gcc failed: cannot open output file")
+        (scratch / "lib.so").write_bytes(b"built")
+        return scratch / "lib.so"
+
+    library, built = c_cache.fetch_or_build(cache, "cc" * 8, build)
+    assert built and len(folders) == 2 and folders[0] != folders[1]
+    assert library.read_bytes() == b"built" and c_cache.valid_entry(cache, "cc" * 8) == library
+    assert not any(p.name.startswith(c_cache.BUILD_PREFIX) for p in cache.iterdir())
+
+
+def test_a_failing_build_in_a_folder_that_is_still_there_is_not_retried(tmp_path):
+    attempts = []
+
+    def build(scratch: Path) -> Path:
+        attempts.append(scratch)
+        raise RuntimeError("gcc failed: syntax error")
+
+    with pytest.raises(RuntimeError, match="syntax error"):
+        c_cache.fetch_or_build(tmp_path / "cache", "dd" * 8, build)
+    assert len(attempts) == 1
+
+
+def test_the_compiler_runs_on_absolute_paths_and_the_library_does_not_depend_on_its_folder(tmp_path, monkeypatch):
+    compiler = ccodegen.find_compiler()
+    units = {"a.c": "double twice(double x) { return 2 * x; }\n",
+             "b.c": "double twice(double x);\ndouble four(double x) { return twice(twice(x)); }\n"}
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)                  # the process's folder is not the build's
+    libraries = []
+    for name in ("one", "two-with-a-longer-name"):
+        (tmp_path / name).mkdir()
+        libraries.append(ccodegen.compile_units(units, compiler, tmp_path / name))
+    assert [lib.parent for lib in libraries] == [tmp_path / "one", tmp_path / "two-with-a-longer-name"]
+    assert libraries[0].read_bytes() == libraries[1].read_bytes()
+    assert sorted(p.name for p in elsewhere.iterdir()) == []
