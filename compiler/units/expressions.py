@@ -144,9 +144,10 @@ class ExpressionUnits:
             self.agreeing([expr.left, expr.right], scope, "comparison",
                           ("the right side", "the left side"))
             return FREE
-        if op in LOGICAL:
-            self.of(expr.left, scope)
-            self.of(expr.right, scope)
+        if op in LOGICAL:               # a chain walked as a list: 2000 `and`s nest 2000 deep
+            first, links = ast.left_chain(expr, LOGICAL)
+            for operand in [first] + [link.right for link in links]:
+                self.of(operand, scope)
             return FREE
         if op in ("%", "÷"):
             return self.agreeing([expr.left, expr.right], scope, "argument",
