@@ -28,6 +28,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from compiler import api  # noqa: E402
+from compiler.runtime.integrator import COUNTERS  # noqa: E402
 from suite.doc_blocks import write_block  # noqa: E402
 from tests.reference import pendulum  # noqa: E402
 
@@ -38,7 +39,9 @@ MATCHING_RTOLS = (1e-8, 5e-9, 2e-9, 1e-9, 5e-10, 2e-10, 1e-10, 5e-11, 2e-11, 1e-
 # where the CPU time of a run goes: (label, functions whose cumulative time counts there)
 PHASES = (("IDAS integration", ("Function_call",)), ("IDAS construction", ("casadi._casadi.integrator",)),
           ("state-set switches", ("switch_state_set",)), ("checks (watched functions)", ("watched_values",)),
-          ("outputs and polishing", ("finish",)))
+          ("outputs and polishing", ("finish",)),
+          ("native IDAS: the driver's calls (integration)", ("library.py:advance",)),
+          ("native IDAS: restarts", ("library.py:restart",)))
 
 
 def cpu(call) -> tuple[float, object]:
@@ -47,13 +50,14 @@ def cpu(call) -> tuple[float, object]:
     return time.process_time() - began, value
 
 
-def measure(repeats: int) -> dict:
+def measure(repeats: int, integrator=None) -> dict:
+    """`integrator`: None for CasADi's IDAS, compiler.native.make_integrator for the native driver."""
     compilation = api.compile("Hard.PendulumA01", lib_dirs=(str(ROOT / "tests" / "models"),))
     params = {"y0": -L * np.cos(THETA0), "L": L, "g": G}
 
     def ours():
         return api.simulate_compiled(compilation, STOP, points=POINTS, rtol=RTOL, atol=RTOL, params=params,
-                                     progress=False)
+                                     progress=False, integrator=integrator)
     theta, omega = ca.SX.sym("theta"), ca.SX.sym("omega")
     times = np.linspace(0.0, STOP, POINTS)
     grid = [float(t) for t in times[1:]]
@@ -99,11 +103,17 @@ def measure(repeats: int) -> dict:
                              if any(name in f"{key[0]}:{key[2]}" or name == key[2] for name in names)),
                             default=0.0)
     return {"ours": float(np.median(ours_times)), "floor": float(np.median(floor_times)),
+            "integrator": result.stats.get("integrator"), "ours_stats": idas_counters(result.stats),
             "steps": result.stats["steps"], "calls": result.stats["segments"],
             "switches": len(result.stats["state_switches"]), "floor_steps": int(solver.stats()["nsteps"]),
             "ours_error": ours_error, "floor_error": floor_error, "matched": matched,
             "rtol_after_switch": result.stats.get("rtol_after_first_switch"),
             "profile_total": total, "phases": phases}
+
+
+def idas_counters(stats: dict) -> dict:
+    """IDAS's counters of a run (Result.stats), by their names in the runtime's statistics."""
+    return {key: stats[key] for key in (*COUNTERS.values(), "segments") if key in stats}
 
 
 def render(data: dict, repeats: int) -> str:
