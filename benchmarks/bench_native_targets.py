@@ -85,7 +85,8 @@ def target_rows(data: dict) -> list[tuple[str, str, bool, str]]:
                      f"{row['native_steps']} against {row['casadi_steps']} steps; same numbers: "
                      f"{'yes' if row['same'] else 'no'}" + ("" if row["integrator"] == "native" else
                                                             f" (ran on {row['integrator']})"), fewer and row["same"],
-                     "; ".join(f"`{label}` {a} times natively, {b} on CasADi's IDAS" for label, a, b in row["unmatched"])
+                     "; ".join([f"`{label}` {a} times natively, {b} on CasADi's IDAS" for label, a, b in row["unmatched"]]
+                               + [f"`{name}` differs by at most {value:.2g}" for name, value in row["shown"].items()])
                      + (f"; signals differ up to {row['worst']:.3g} (atol + rtol max|signal|) in `{row['signal']}`"
                         if row["worst"] > native_events.AGREEMENT else "")))
     return rows
@@ -100,11 +101,12 @@ def switching_row(data: dict) -> tuple[str, str, bool, str]:
     if data["integrator"] != "native":
         return target, f"{ratio:.1f}x, but the run was on {data['integrator']}", False, ""
     stats = data["ours_stats"]
-    why = (f"native {data['ours'] * 1e3:.1f} ms, {stats.get('steps')} steps in {stats.get('segments')} IDAS calls "
+    why = (f"native {data['ours'] * 1e3:.1f} ms, {stats.get('steps')} steps ({data['ours'] / stats.get('steps', 1) * 1e6:.1f} "
+           f"us each; rtol {data['rtol_after_switch']:g} after the first switch) in {stats.get('segments')} IDAS calls "
            f"({data['switches']} switches: a restart each), {stats.get('residual_evaluations')} residuals, "
            f"{stats.get('jacobian_evaluations')} Jacobians, {stats.get('newton_iterations')} Newton iterations, "
-           f"error {data['ours_error']:.2e}; the angle ODE at rtol {matched['rtol']:g}: {matched['steps']} steps, "
-           f"error {matched['error']:.2e}. cProfile of one run ({data['profile_total'] * 1e3:.0f} ms under the "
+           f"error {data['ours_error']:.2e}; the angle ODE at rtol {matched['rtol']:g}: {matched['steps']} steps "
+           f"({matched['time'] / matched['steps'] * 1e6:.1f} us each), error {matched['error']:.2e}. cProfile of one run ({data['profile_total'] * 1e3:.0f} ms under the "
            "profiler), cumulative: " + ", ".join(f"{label} {seconds * 1e3:.0f} ms"
                                                  for label, seconds in data["phases"].items() if seconds > 0))
     return (target, f"{ratio:.1f}x ({data['ours'] * 1e3:.1f} ms against {matched['time'] * 1e3:.1f} ms)",

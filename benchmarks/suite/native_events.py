@@ -30,6 +30,7 @@ EVENT_TESTS = ROOT / "tests" / "runtime" / "test_events.py"
 AGREEMENT = 100.0
 OPAMP = "ElectricalComponents.AmplifierWithOpAmpDetailed"
 OPAMP_RUN = {"stop": 0.01, "rtol": 1e-6, "atol": 1e-6, "points": 1001}   # 10 of the test's 100 periods
+OPAMP_OUTPUT = "op_amp.outp.v"          # the signal the published test case compares (atol 0.4 V)
 
 
 def event_test_cases(path: Path = EVENT_TESTS) -> list[dict]:
@@ -71,8 +72,9 @@ def opamp_library(corpus: Path, folder: Path) -> list[str] | None:
     return [str(folder)]
 
 
-def compare(label: str, compilation, stop: float, settings: dict, repeats: int) -> dict:
-    """Both integrators on `compilation`, interleaved; steps, CPU medians, the largest differences."""
+def compare(label: str, compilation, stop: float, settings: dict, repeats: int, shown: tuple = ()) -> dict:
+    """Both integrators on `compilation`, interleaved; steps, CPU medians, the largest differences
+    (and the largest absolute difference of each signal in `shown`)."""
     def run(integrator):
         return lambda: api.simulate_compiled(compilation, stop, progress=False, integrator=integrator, **settings)
     timed = bench_native_idas.cpu_runs({"native": run(make_integrator), "casadi": run(None)}, repeats)
@@ -89,6 +91,7 @@ def compare(label: str, compilation, stop: float, settings: dict, repeats: int) 
             "native_time": native_s, "casadi_time": casadi_s, "integrator": native.stats.get("integrator"),
             "native_events": len(native.events), "casadi_events": len(casadi.events),
             "worst": worst, "signal": signal, **events,
+            "shown": {name: float(np.max(np.abs(native[name] - casadi[name]))) for name in shown},
             "same": worst <= AGREEMENT and not events["unmatched"] and events["event_share"] <= AGREEMENT}
 
 
@@ -123,7 +126,7 @@ def measure(repeats: int, log, corpus: Path | None = None, only: set[str] | None
             run = dict(OPAMP_RUN)
             stop = run.pop("stop")
             rows.append(compare(f"{OPAMP}, {stop:g} s, rtol {run['rtol']:g}", api.compile(OPAMP, lib_dirs),
-                                stop, run, repeats))
+                                stop, run, repeats, shown=(OPAMP_OUTPUT,)))
             log(f"  {rows[-1]['case']}: {rows[-1]['native_steps']} native steps, {rows[-1]['casadi_steps']} CasADi")
         for case in event_test_cases():
             if only is not None and case["name"] not in only:
@@ -147,4 +150,6 @@ def render(data: dict) -> list[str]:
     for r in data["rows"]:
         lines += [f"- {r['case']}: `{label}` {a} times natively, {b} times on CasADi's IDAS"
                   for label, a, b in r["unmatched"]]
+        lines += [f"- {r['case']}: `{name}` differs by at most {value:.2g} between the two runs"
+                  for name, value in r["shown"].items()]
     return lines + [f"- {note}" for note in data["notes"]] + [""]

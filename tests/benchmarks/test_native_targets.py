@@ -56,7 +56,7 @@ def excavator_data() -> dict:
 
 
 def switching_data() -> dict:
-    return {"ours": 0.068, "integrator": "native", "switches": 30, "ours_error": 9e-6,
+    return {"ours": 0.068, "integrator": "native", "switches": 30, "ours_error": 9e-6, "rtol_after_switch": 1e-10,
             "ours_stats": {"steps": 8696, "segments": 31}, "profile_total": 0.26,
             "matched": {"rtol": 1e-8, "error": 5.8e-6, "time": 0.0093, "steps": 2169},
             "phases": {"state-set switches": 0.099, "checks": 0.0}, "load": ("1.0", "2.0")}
