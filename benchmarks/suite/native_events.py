@@ -147,6 +147,7 @@ def render(data: dict) -> list[str]:
         lines.append(f"| {r['case']} | {r['native_steps']} | {r['casadi_steps']} | {r['native_time'] * 1e3:.1f} ms "
                      f"| {r['casadi_time'] * 1e3:.1f} ms | {r['native_events']} | {r['casadi_events']} "
                      f"| {r['worst']:.2g} (`{r['signal']}`) | {r['event_share']:.2g} | {'yes' if r['same'] else 'no'} |")
+    lines.append("")
     for r in data["rows"]:
         lines += [f"- {r['case']}: `{label}` {a} times natively, {b} times on CasADi's IDAS"
                   for label, a, b in r["unmatched"]]

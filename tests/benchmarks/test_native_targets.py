@@ -78,3 +78,13 @@ def test_the_section_gives_every_target_its_verdict_and_the_profile_where_missed
     bench_native_targets.write_doc(section, doc)
     text = doc.read_text(encoding="utf-8")
     assert text.count(bench_native_targets.BEGIN) == 1 and text.count(f"## {bench_native_targets.HEADING}") == 1
+
+
+def test_a_contender_named_by_path_joins_both_scipy_radau_contenders():
+    from suite.native_excavator import scipy_contenders
+    from suite.problems import CONTENDERS, Excavator
+    made = scipy_contenders(Excavator(check_reference=False), CONTENDERS / "scipy_excavator.py")
+    assert [c.name for c in made] == ["scipy Radau (make bench's: one solve_ivp call)",
+                                      "scipy Radau (the reference model as written: restarted at its waypoints)",
+                                      "scipy Radau (scipy_excavator)"]
+    assert [c.options for c in made] == [{}, {"split_at_waypoints": True}, {}] and callable(made[2].module.run)
