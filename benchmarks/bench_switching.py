@@ -38,7 +38,9 @@ THETA0, L, G, STOP, RTOL, POINTS = 2.3, 0.8, 9.81, 20.0, 1e-8, 2001
 MATCHING_RTOLS = (1e-8, 5e-9, 2e-9, 1e-9, 5e-10, 2e-10, 1e-10, 5e-11, 2e-11, 1e-11)
 # where the CPU time of a run goes: (label, functions whose cumulative time counts there)
 PHASES = (("IDAS integration", ("Function_call",)), ("IDAS construction", ("casadi._casadi.integrator",)),
-          ("state-set switches", ("switch_state_set",)), ("checks (watched functions)", ("watched_values",)),
+          ("state-set switches", ("switch_state_set",)),
+          ("  of which the restart point (Levenberg-Marquardt)", ("restart_point",)),
+          ("every output at a crossing", ("crossing_values",)), ("checks (watched functions)", ("watched_values",)),
           ("outputs and polishing", ("finish",)),
           ("native IDAS: the driver's calls (integration)", ("library.py:advance",)),
           ("native IDAS: restarts", ("library.py:restart",)))
