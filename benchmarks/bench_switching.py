@@ -39,7 +39,7 @@ MATCHING_RTOLS = (1e-8, 5e-9, 2e-9, 1e-9, 5e-10, 2e-10, 1e-10, 5e-11, 2e-11, 1e-
 # where the CPU time of a run goes: (label, functions whose cumulative time counts there)
 PHASES = (("IDAS integration", ("Function_call",)), ("IDAS construction", ("casadi._casadi.integrator",)),
           ("state-set switches", ("switch_state_set",)),
-          ("  of which the restart point (Levenberg-Marquardt)", ("restart_point",)),
+          ("the restart point at a switch (Levenberg-Marquardt, part of the switches)", ("restart_point",)),
           ("every output at a crossing", ("crossing_values",)), ("checks (watched functions)", ("watched_values",)),
           ("outputs and polishing", ("finish",)),
           ("native IDAS: the driver's calls (integration)", ("library.py:advance",)),
