@@ -34,8 +34,10 @@ fuzz: install
 	DYADC_FUZZ_EXAMPLES=$(FUZZ_EXAMPLES) $(BIN)/python -m pytest -n 2 -p no:cacheprovider tests/fuzz
 	DYADC_METAMORPHIC_EXAMPLES=$(METAMORPHIC_EXAMPLES) $(BIN)/python -m pytest -n 2 -p no:cacheprovider tests/metamorphic
 
+# `make bench CORPUS=DIR` adds the detailed op-amp of the issue-32 targets (DIR holds
+# ElectricalComponents/dyad and BlockComponents/dyad, as `make compat`'s corpus does)
 bench: install
-	$(BIN)/python benchmarks/run_all.py
+	$(BIN)/python benchmarks/run_all.py $(if $(CORPUS),--corpus $(CORPUS))
 
 generate: install
 	$(BIN)/dyadc generate

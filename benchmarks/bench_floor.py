@@ -95,9 +95,11 @@ def segment_ends(model, p) -> list[float]:
     return [b for b in time_breakpoints(model, p, 0.0, STOP)] + [STOP]
 
 
-def floor_run(model, dae, p, point, grid) -> tuple[np.ndarray, np.ndarray, float, int]:
-    """x and z on the grid by one bare IDAS call per segment; the seconds spent building; steps."""
-    options = integrator_options(model, RTOL, ATOL, 100000, {})
+def floor_run(model, dae, p, point, grid, rtol: float = RTOL, atol: float = ATOL,
+              stats: dict | None = None) -> tuple[np.ndarray, np.ndarray, float, int]:
+    """x and z on the grid by one bare IDAS call per segment; the seconds spent building; steps.
+    `stats`, where given, gets IDAS's counters (CasADi's names) summed over the calls."""
+    options = integrator_options(model, rtol, atol, 100000, {})
     nx, nz = len(model.state_names), len(model.algebraic_names)
     xs, zs = np.empty((nx, len(grid))), np.empty((nz, len(grid)))
     xs[:, 0], zs[:, 0] = point.x, point.z
@@ -112,6 +114,10 @@ def floor_run(model, dae, p, point, grid) -> tuple[np.ndarray, np.ndarray, float
         building += CLOCK() - began
         sol = solver(x0=x, z0=z, p=with_clock(model, p, t, end))
         steps += int(solver.stats()["nsteps"])
+        if stats is not None:
+            for key, value in solver.stats().items():
+                if isinstance(value, (int, float)) and not isinstance(value, bool) and key.startswith("n"):
+                    stats[key] = stats.get(key, 0) + value
         xf = np.asarray(sol["xf"]).reshape(nx, len(times))
         zf = np.asarray(sol["zf"]).reshape(nz, len(times))
         xs[:, k:upto], zs[:, k:upto] = xf[:, :upto - k], zf[:, :upto - k]

@@ -69,15 +69,20 @@ class BareResult:
         self.events = []
 
 
-def bare_call(model, stop: float, points: int):
-    """bench_floor.py's floor: one bare CasADi IDAS call per segment on the model's DAE."""
+def bare_call(model, stop: float, points: int, rtol: float = bench_floor.RTOL):
+    """bench_floor.py's floor: one bare CasADi IDAS call per segment on the model's DAE (atol =
+    rtol); the result's stats hold IDAS's counters summed over the calls (CasADi's names)."""
     p = model.parameter_vector(None)
     point = consistent_initialization(model, p, 0.0)
     grid = np.linspace(0.0, stop, points)
 
     def run():
-        steps = bench_floor.floor_run(model, bench_floor.floor_dae(model), p, point, grid)[3]
-        return BareResult(steps, len(bench_floor.segment_ends(model, p)))
+        counters: dict = {}
+        steps = bench_floor.floor_run(model, bench_floor.floor_dae(model), p, point, grid, rtol, rtol,
+                                      counters)[3]
+        result = BareResult(steps, len(bench_floor.segment_ends(model, p)))
+        result.stats["idas"] = counters
+        return result
     return run
 
 

@@ -28,6 +28,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from compiler import api  # noqa: E402
+from compiler.runtime.integrator import COUNTERS  # noqa: E402
 from suite.doc_blocks import write_block  # noqa: E402
 from tests.reference import pendulum  # noqa: E402
 
@@ -37,8 +38,12 @@ THETA0, L, G, STOP, RTOL, POINTS = 2.3, 0.8, 9.81, 20.0, 1e-8, 2001
 MATCHING_RTOLS = (1e-8, 5e-9, 2e-9, 1e-9, 5e-10, 2e-10, 1e-10, 5e-11, 2e-11, 1e-11)
 # where the CPU time of a run goes: (label, functions whose cumulative time counts there)
 PHASES = (("IDAS integration", ("Function_call",)), ("IDAS construction", ("casadi._casadi.integrator",)),
-          ("state-set switches", ("switch_state_set",)), ("checks (watched functions)", ("watched_values",)),
-          ("outputs and polishing", ("finish",)))
+          ("state-set switches", ("switch_state_set",)),
+          ("the restart point at a switch (Levenberg-Marquardt, part of the switches)", ("restart_point",)),
+          ("every output at a crossing", ("crossing_values",)), ("checks (watched functions)", ("watched_values",)),
+          ("outputs and polishing", ("finish",)),
+          ("native IDAS: the driver's calls (integration)", ("library.py:advance",)),
+          ("native IDAS: restarts", ("library.py:restart",)))
 
 
 def cpu(call) -> tuple[float, object]:
@@ -47,13 +52,14 @@ def cpu(call) -> tuple[float, object]:
     return time.process_time() - began, value
 
 
-def measure(repeats: int) -> dict:
+def measure(repeats: int, integrator=None) -> dict:
+    """`integrator`: None for CasADi's IDAS, compiler.native.make_integrator for the native driver."""
     compilation = api.compile("Hard.PendulumA01", lib_dirs=(str(ROOT / "tests" / "models"),))
     params = {"y0": -L * np.cos(THETA0), "L": L, "g": G}
 
     def ours():
         return api.simulate_compiled(compilation, STOP, points=POINTS, rtol=RTOL, atol=RTOL, params=params,
-                                     progress=False)
+                                     progress=False, integrator=integrator)
     theta, omega = ca.SX.sym("theta"), ca.SX.sym("omega")
     times = np.linspace(0.0, STOP, POINTS)
     grid = [float(t) for t in times[1:]]
@@ -99,11 +105,17 @@ def measure(repeats: int) -> dict:
                              if any(name in f"{key[0]}:{key[2]}" or name == key[2] for name in names)),
                             default=0.0)
     return {"ours": float(np.median(ours_times)), "floor": float(np.median(floor_times)),
+            "integrator": result.stats.get("integrator"), "ours_stats": idas_counters(result.stats),
             "steps": result.stats["steps"], "calls": result.stats["segments"],
             "switches": len(result.stats["state_switches"]), "floor_steps": int(solver.stats()["nsteps"]),
             "ours_error": ours_error, "floor_error": floor_error, "matched": matched,
             "rtol_after_switch": result.stats.get("rtol_after_first_switch"),
             "profile_total": total, "phases": phases}
+
+
+def idas_counters(stats: dict) -> dict:
+    """IDAS's counters of a run (Result.stats), by their names in the runtime's statistics."""
+    return {key: stats[key] for key in (*COUNTERS.values(), "segments") if key in stats}
 
 
 def render(data: dict, repeats: int) -> str:
@@ -126,7 +138,8 @@ def render(data: dict, repeats: int) -> str:
                                else "; no tried rtol of the angle ODE matched our error."), "",
              "Where one run's time goes (cProfile, cumulative, of "
              f"{data['profile_total'] * 1e3:.0f} ms under the profiler):", ""]
-    lines += [f"- {label}: {seconds * 1e3:.0f} ms" for label, seconds in data["phases"].items()]
+    lines += [f"- {label}: {seconds * 1e3:.0f} ms" for label, seconds in data["phases"].items()
+              if seconds > 0 or not label.startswith("native")]      # the native phases where it ran
     lines += ["", END]
     return "\n".join(lines)
 

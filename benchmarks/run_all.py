@@ -80,6 +80,11 @@ def main(argv: list[str]) -> int:
                         help="skip linearizing the excavator from the cache (bench_linearize.py, docs/analysis.md)")
     parser.add_argument("--no-units", action="store_true",
                         help="skip the unit check's cost on the excavator's uncached compile (bench_units.py)")
+    parser.add_argument("--no-native", action="store_true",
+                        help="skip the issue-32 targets on the native IDAS driver (bench_native_targets.py)")
+    parser.add_argument("--corpus", type=Path, default=None,
+                        help="a folder with ElectricalComponents/dyad and BlockComponents/dyad: the detailed "
+                             "op-amp of the issue-32 targets")
     parser.add_argument("--out", default=str(ROOT / "docs"), help="folder for benchmarks.md (PNGs go to <out>/benchmarks/)")
     args = parser.parse_args(argv)
     os.environ.setdefault("OMP_NUM_THREADS", "1")      # scipy/numpy threads would steal the other core
@@ -117,6 +122,14 @@ def main(argv: list[str]) -> int:
             log("== matched tip error: dyadc vs scipy Radau at rtol 1e-6")
             from suite.matched import matched_tip_error
             floor["matched"] = matched_tip_error(excavator, settings["repeats"], log)
+
+    native_section = ""
+    if not args.no_native:
+        log("== issue 32: the native IDAS driver against its targets (bench_native_targets.py)")
+        import bench_native_targets
+        excavator = next((r.problem for r in runs if r.problem.key == "excavator"), None)
+        native_section = bench_native_targets.render(bench_native_targets.measure(
+            settings["repeats"], lambda line: log("  " + line), args.corpus, excavator=excavator))
 
     compile_data: dict = {}
     if not args.no_compile:
@@ -165,7 +178,9 @@ def main(argv: list[str]) -> int:
 
     elapsed = time.perf_counter() - began
     text = report.render(info, runs, compile_data, pngs, settings, elapsed, floor, targets)
-    (out / "benchmarks.md").write_text(text + ("\n" + units_section if units_section else ""), encoding="utf-8")
+    native_part = f"\n## {bench_native_targets.HEADING}\n\n{native_section}\n" if native_section else ""
+    (out / "benchmarks.md").write_text(text + ("\n" + units_section if units_section else "") + native_part,
+                                       encoding="utf-8")
     log(f"wrote {out / 'benchmarks.md'} in {elapsed / 60:.1f} min")
     return 0
 

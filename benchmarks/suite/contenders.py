@@ -26,10 +26,14 @@ class Failed(Exception):
 
 
 class DyadcContender:
-    def __init__(self, problem: Problem, codegen: str):
+    """`integrator`: None for CasADi's IDAS (the default path), or what makes the run's
+    integrators (compiler.native.make_integrator for the native IDAS driver, named `native`)."""
+    def __init__(self, problem: Problem, codegen: str, integrator=None, native: str = ""):
         self.problem = problem
         self.codegen = codegen
-        self.name = "dyadc (C)" if codegen == "c" else "dyadc (VM)"
+        self.integrator = integrator
+        self.name = ("dyadc (C)" if codegen == "c" else "dyadc (VM)") if not native \
+            else f"dyadc ({codegen.upper()}, {native})"
         began = time.perf_counter()
         self.compilation = api.compile(problem.dyadc_spec, problem.dyadc_lib_dirs)
         self.compile_seconds = time.perf_counter() - began
@@ -52,27 +56,33 @@ class DyadcContender:
         try:
             # the API's path: runtime.simulate, or segmented IDAS for a dynamic state selection
             result = api.simulate_compiled(self.compilation, self.problem.stop, rtol=rtol, atol=atol,
-                                           saveat=grid, progress=False, signals=self.problem.signal_names())
+                                           saveat=grid, progress=False, signals=self.problem.signal_names(),
+                                           integrator=self.integrator)
         except DyadError as err:
             raise Failed(str(err).splitlines()[0]) from None
         seconds = time.perf_counter() - began
+        self.last_stats = result.stats
         if len(result.time) != len(grid) or not np.allclose(result.time, grid, rtol=1e-12, atol=0):
             raise Failed("output grid differs from the requested one")
         return seconds, self.problem.dyadc_signals(result)
 
 
 class ScipyContender:
-    def __init__(self, problem: Problem, method: str):
+    """`options` replace the problem's scipy options (a variant of the same contender, named
+    `variant`); `module` is a contender module of benchmarks/contenders' interface given by path."""
+    def __init__(self, problem: Problem, method: str, options: dict | None = None, variant: str = "",
+                 module=None):
         self.problem = problem
         self.method = method
-        self.name = f"scipy {method}"
-        self.module = contender_module(problem.scipy_module)
+        self.name = f"scipy {method}" + (f" ({variant})" if variant else "")
+        self.module = module or contender_module(problem.scipy_module)
+        self.options = problem.scipy_options if options is None else options
 
     def solve(self, rtol: float, atol: float):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             try:
-                output = self.module.run(self.method, rtol, atol, **self.problem.scipy_options)
+                output = self.module.run(self.method, rtol, atol, **self.options)
             except (RuntimeError, ValueError, np.linalg.LinAlgError) as err:
                 raise Failed(str(err).splitlines()[0]) from None
         return output["wall_time_s"], self.problem.scipy_signals(output)

@@ -27,17 +27,39 @@ def tip_error(problem: Problem, signals: dict) -> float:
     return float(np.max(np.hypot(*(np.asarray(signals[n]) - reference[n] for n in TIP))))
 
 
-def _cpu_solve(contender, rtol: float, atol_ratio: float) -> tuple[float, dict]:
+def cpu_solve(contender, rtol: float, atol_ratio: float) -> tuple[float, dict]:
+    """CPU seconds of this process around one solve, and the signals."""
     began = time.process_time()
     _, signals = contender.solve(rtol, rtol * atol_ratio)
     return time.process_time() - began, signals
+
+
+def loosest_matching(problem: Problem, contender, target: float, rtols=RTOLS) -> dict:
+    """The loosest of `rtols` (tried loosest first) whose tip error is no worse than `target`:
+    {"contender", "rtol", "tip", "tried": [(rtol, tip or None)], "notes"}; "rtol" is None where
+    none reaches it."""
+    tried, notes = [], []
+    for rtol in rtols:
+        try:
+            _, signals = cpu_solve(contender, rtol, problem.atol_ratio)
+        except Failed as err:
+            tried.append((rtol, None))
+            notes.append(f"{contender.name} failed at rtol {rtol:.0e}: {err}")
+            continue
+        tip = tip_error(problem, signals)
+        tried.append((rtol, tip))
+        if tip <= target:
+            return {"contender": contender, "rtol": rtol, "tip": tip, "tried": tried, "notes": notes}
+    notes.append(f"{contender.name}: no rtol down to {rtols[-1]:.0e} reaches the tip error {target:.2e} m "
+                 f"({', '.join(f'{r:.0e}: {t:.2e}' for r, t in tried if t is not None)})")
+    return {"contender": contender, "rtol": None, "tip": None, "tried": tried, "notes": notes}
 
 
 def matched_tip_error(problem: Problem, repeats: int, log) -> dict:
     """{"scipy": {...}, "dyadc": [{contender, rtol, tip, time, speedup}], "notes": [...]}"""
     ratio = problem.atol_ratio
     scipy = ScipyContender(problem, SCIPY_METHOD)
-    _, signals = _cpu_solve(scipy, SCIPY_RTOL, ratio)                       # warm-up
+    _, signals = cpu_solve(scipy, SCIPY_RTOL, ratio)                        # warm-up
     target = tip_error(problem, signals)
     log(f"  scipy {SCIPY_METHOD} rtol {SCIPY_RTOL:.0e}: tip error {target:.2e} m")
     chosen, notes = [], []
@@ -47,29 +69,17 @@ def matched_tip_error(problem: Problem, repeats: int, log) -> dict:
         except Failed as err:
             notes.append(f"dyadc ({codegen.upper()}) unavailable: {err}")
             continue
-        tried = []
-        for rtol in RTOLS:
-            try:
-                _, signals = _cpu_solve(contender, rtol, ratio)
-            except Failed as err:
-                tried.append((rtol, None))
-                notes.append(f"{contender.name} failed at rtol {rtol:.0e}: {err}")
-                continue
-            tip = tip_error(problem, signals)
-            tried.append((rtol, tip))
-            if tip <= target:
-                chosen.append({"contender": contender, "rtol": rtol, "tip": tip, "tried": tried})
-                log(f"  {contender.name}: rtol {rtol:.0e} tip error {tip:.2e} m")
-                break
-        else:
-            notes.append(f"{contender.name}: no rtol down to {RTOLS[-1]:.0e} reaches the tip error "
-                         f"of scipy ({', '.join(f'{r:.0e}: {t:.2e}' for r, t in tried if t is not None)})")
+        found = loosest_matching(problem, contender, target)
+        notes += found["notes"]
+        if found["rtol"] is not None:
+            chosen.append(found)
+            log(f"  {contender.name}: rtol {found['rtol']:.0e} tip error {found['tip']:.2e} m")
     times = {id(c): [] for c in chosen}
     scipy_times = []
     for _ in range(repeats):                                             # interleaved
-        scipy_times.append(_cpu_solve(scipy, SCIPY_RTOL, ratio)[0])
+        scipy_times.append(cpu_solve(scipy, SCIPY_RTOL, ratio)[0])
         for c in chosen:
-            times[id(c)].append(_cpu_solve(c["contender"], c["rtol"], ratio)[0])
+            times[id(c)].append(cpu_solve(c["contender"], c["rtol"], ratio)[0])
     scipy_time = statistics.median(scipy_times)
     rows = [{"contender": c["contender"].name, "rtol": c["rtol"], "tip": c["tip"],
              "time": statistics.median(times[id(c)]), "runs": repeats,

@@ -1,0 +1,156 @@
+"""Issue 32 item 4, events: IDAS steps of the native driver against CasADi's IDAS (both on the
+model's C code) on the event tests and the detailed op-amp, with the numbers compared.
+
+The event tests' models and run settings are read from tests/runtime/test_events.py itself (each
+test's `model_file(tmp_path, NAME, BODY)` and its first `api.simulate(spec, STOP, ...)`), so the
+benchmark runs what the tests run. The detailed op-amp (AmplifierWithOpAmpDetailed, a published
+example of ElectricalComponents, clipping a 1 kHz sine of 12 V at +-15 V supplies) needs the
+ElectricalComponents and BlockComponents sources of a corpus (`--corpus DIR`, DIR holding
+ElectricalComponents/dyad and BlockComponents/dyad); without them it says so.
+
+Same numbers: every signal of the two runs on the same grid, |native - CasADi| at most
+AGREEMENT * (atol + rtol * max |signal|), and the same number of events at times within
+AGREEMENT * (atol + rtol * t) of each other.
+"""
+from __future__ import annotations
+
+import ast
+import tempfile
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+import bench_native_idas
+from compiler import api
+from compiler.native import make_integrator
+
+ROOT = Path(__file__).resolve().parents[2]
+EVENT_TESTS = ROOT / "tests" / "runtime" / "test_events.py"
+AGREEMENT = 100.0
+OPAMP = "ElectricalComponents.AmplifierWithOpAmpDetailed"
+OPAMP_RUN = {"stop": 0.01, "rtol": 1e-6, "atol": 1e-6, "points": 1001}   # 10 of the test's 100 periods
+OPAMP_OUTPUT = "op_amp.outp.v"          # the signal the published test case compares (atol 0.4 V)
+
+
+def event_test_cases(path: Path = EVENT_TESTS) -> list[dict]:
+    """[{"test", "name", "body", "stop", "settings"}] of every test of `path` that writes a model
+    with model_file and simulates it with literal arguments."""
+    cases = []
+    for function in ast.parse(path.read_text(encoding="utf-8")).body:
+        if not isinstance(function, ast.FunctionDef):
+            continue
+        calls = [node for node in ast.walk(function) if isinstance(node, ast.Call)]
+        written = next((c for c in calls if _called(c) == "model_file"), None)
+        run = next((c for c in calls if _called(c) == "api.simulate"), None)
+        if written is None or run is None:
+            continue
+        settings = {k.arg: ast.literal_eval(k.value) for k in run.keywords}
+        cases.append({"test": function.name, "name": ast.literal_eval(written.args[1]),
+                      "body": ast.literal_eval(written.args[2]), "stop": ast.literal_eval(run.args[1]),
+                      "settings": settings})
+    return cases
+
+
+def _called(call: ast.Call) -> str:
+    return ast.unparse(call.func)
+
+
+def compile_event_case(case: dict, folder: Path):
+    path = folder / f"{case['name']}.dyad"
+    path.write_text(f"component {case['name']}\n{case['body']}\nend\n", encoding="utf-8")
+    return api.compile(str(path))
+
+
+def opamp_library(corpus: Path, folder: Path) -> list[str] | None:
+    """A library folder with the corpus's ElectricalComponents and BlockComponents; None without them."""
+    sources = {name: corpus / name / "dyad" for name in ("ElectricalComponents", "BlockComponents")}
+    if not all(s.is_dir() for s in sources.values()):
+        return None
+    for name, source in sources.items():
+        (folder / name).symlink_to(source.resolve(), target_is_directory=True)
+    return [str(folder)]
+
+
+def compare(label: str, compilation, stop: float, settings: dict, repeats: int, shown: tuple = ()) -> dict:
+    """Both integrators on `compilation`, interleaved; steps, CPU medians, the largest differences
+    (and the largest absolute difference of each signal in `shown`)."""
+    def run(integrator):
+        return lambda: api.simulate_compiled(compilation, stop, progress=False, integrator=integrator, **settings)
+    timed = bench_native_idas.cpu_runs({"native": run(make_integrator), "casadi": run(None)}, repeats)
+    (native_s, native), (casadi_s, casadi) = timed["native"], timed["casadi"]
+    rtol, atol = settings.get("rtol", 1e-6), settings.get("atol", 1e-6)
+    worst, signal = 0.0, ""
+    for name in casadi.names:
+        a, b = np.asarray(native[name], dtype=float), np.asarray(casadi[name], dtype=float)
+        share = float(np.max(np.abs(a - b))) / (atol + rtol * float(np.max(np.abs(b))))
+        if share > worst:
+            worst, signal = share, name
+    events = event_differences(native.events, casadi.events, rtol, atol)
+    return {"case": label, "native_steps": native.stats["steps"], "casadi_steps": casadi.stats["steps"],
+            "native_time": native_s, "casadi_time": casadi_s, "integrator": native.stats.get("integrator"),
+            "native_events": len(native.events), "casadi_events": len(casadi.events),
+            "worst": worst, "signal": signal, **events,
+            "shown": {name: float(np.max(np.abs(native[name] - casadi[name]))) for name in shown},
+            "same": worst <= AGREEMENT and not events["unmatched"] and events["event_share"] <= AGREEMENT}
+
+
+def event_differences(native: list, casadi: list, rtol: float, atol: float) -> dict:
+    """Events compared label by label, in time order: the largest time difference (as a multiple
+    of atol + rtol t) where both runs have the same number of a label's events, and the labels
+    whose counts differ ({"unmatched": [(label, native count, CasADi count)]})."""
+    share, unmatched = 0.0, []
+    for label in sorted({e["event"] for e in native + casadi}):
+        a = [e["time"] for e in native if e["event"] == label]
+        b = [e["time"] for e in casadi if e["event"] == label]
+        if len(a) != len(b):
+            unmatched.append((label, len(a), len(b)))
+            continue
+        share = max([share] + [abs(x - y) / (atol + rtol * abs(y)) for x, y in zip(a, b)])
+    return {"event_share": share, "unmatched": unmatched}
+
+
+def measure(repeats: int, log, corpus: Path | None = None, only: set[str] | None = None) -> dict:
+    """{"rows": [compare(...)], "notes": [...]}: the op-amp first, then every event test (those
+    whose model is named in `only`, where given)."""
+    rows, notes = [], []
+    with tempfile.TemporaryDirectory(prefix="dyadc-bench-events-") as scratch, warnings.catch_warnings():
+        warnings.simplefilter("ignore")              # the corpus's packages replace the shipped ones
+        folder = Path(scratch)
+        lib_dirs = opamp_library(corpus, folder) if corpus is not None else None
+        if lib_dirs is None:
+            notes.append(f"the detailed op-amp was not run: no ElectricalComponents and BlockComponents "
+                         f"sources under {corpus} (--corpus DIR)" if corpus else
+                         "the detailed op-amp was not run: no corpus given (--corpus DIR)")
+        else:
+            run = dict(OPAMP_RUN)
+            stop = run.pop("stop")
+            rows.append(compare(f"{OPAMP}, {stop:g} s, rtol {run['rtol']:g}", api.compile(OPAMP, lib_dirs),
+                                stop, run, repeats, shown=(OPAMP_OUTPUT,)))
+            log(f"  {rows[-1]['case']}: {rows[-1]['native_steps']} native steps, {rows[-1]['casadi_steps']} CasADi")
+        for case in event_test_cases():
+            if only is not None and case["name"] not in only:
+                continue
+            rows.append(compare(case["test"], compile_event_case(case, folder), case["stop"], case["settings"],
+                                repeats))
+            log(f"  {case['test']}: {rows[-1]['native_steps']} native steps, {rows[-1]['casadi_steps']} CasADi")
+    return {"rows": rows, "notes": notes}
+
+
+def render(data: dict) -> list[str]:
+    lines = [f"Same numbers: every signal within {AGREEMENT:g} (atol + rtol max|signal|) of the other "
+             "run's, the same number of events, their times within the same multiple of (atol + rtol t); "
+             "'differences' gives the largest of each as that multiple.", "",
+             "| case | IDAS steps native | CasADi | CPU native | CasADi | events native | CasADi "
+             "| differences: signals (worst) | event times (same labels) | same numbers |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for r in data["rows"]:
+        lines.append(f"| {r['case']} | {r['native_steps']} | {r['casadi_steps']} | {r['native_time'] * 1e3:.1f} ms "
+                     f"| {r['casadi_time'] * 1e3:.1f} ms | {r['native_events']} | {r['casadi_events']} "
+                     f"| {r['worst']:.2g} (`{r['signal']}`) | {r['event_share']:.2g} | {'yes' if r['same'] else 'no'} |")
+    lines.append("")
+    for r in data["rows"]:
+        lines += [f"- {r['case']}: `{label}` {a} times natively, {b} times on CasADi's IDAS"
+                  for label, a, b in r["unmatched"]]
+        lines += [f"- {r['case']}: `{name}` differs by at most {value:.2g} between the two runs"
+                  for name, value in r["shown"].items()]
+    return lines + [f"- {note}" for note in data["notes"]] + [""]
