@@ -17,8 +17,10 @@ class DefinitionRules(RuleBase):
     # ------------------------------------------------------------------ file
 
     def start(self, meta, children):
-        usings = tuple(c for c in children if isinstance(c, ast.Using))
-        definitions = tuple(c for c in children if not isinstance(c, ast.Using))
+        # `using A, B` gives one Using per package
+        flat = [u for c in children for u in (c if isinstance(c, tuple) else (c,))]
+        usings = tuple(c for c in flat if isinstance(c, ast.Using))
+        definitions = tuple(c for c in flat if not isinstance(c, ast.Using))
         return ast.File(path=self.filename, usings=usings, definitions=definitions,
                         span=self._span(meta))
 
@@ -29,8 +31,19 @@ class DefinitionRules(RuleBase):
         return Doc(string_content(children[0].value))
 
     def using(self, meta, children):
-        package, *names = children
-        return ast.Using(package, tuple(n.value for n in names), span=self._span(meta))
+        return tuple(ast.Using(package, (), span=self._span(meta), level=level)
+                     for level, package in children)
+
+    def using_names(self, meta, children):
+        (level, package), *names = children
+        return ast.Using(package, tuple(n.value for n in names), span=self._span(meta), level=level)
+
+    def using_path(self, meta, children):
+        """(number of leading dots, the dotted name after them)"""
+        return len(children) - 1, children[-1]
+
+    def using_dot(self, meta, children):
+        return "."
 
     def qual_name(self, meta, children):
         return ".".join(t.value for t in children)
