@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import pytest
 
+from compiler.errors import DyadError
 from compiler.model.flatten import flatten_model
 
 
@@ -34,3 +35,40 @@ def test_relative_usings_name_definitions_from_the_files_package(sources):
     flat = flatten_model("Rig.Bench", [str(sources.root)])
     assert sorted(v.name for v in flat.variables) == ["d.s.f", "s.f"]
     assert {p.name: p.value for p in flat.parameters if p.name.endswith(".k")} == {"d.s.k": 5, "s.k": 3}
+
+
+CLOCK = """
+    component Clock
+      variable time::Real
+      variable elapsed::Real
+    relations
+      initial time = 0
+      der(time) = 2
+      elapsed = time
+    end
+    component Rig
+      c = Clock()
+      variable y::Real
+    relations
+      y = time
+    end
+"""
+
+
+def test_a_declared_time_shadows_the_independent_variable_inside_its_component(sources):
+    path = sources.write("Clock.dyad", CLOCK)
+    from compiler.api import simulate
+    result = simulate(f"{path}:Rig", stop=1.0, points=3, codegen="vm")
+    assert result["c.elapsed"][-1] == pytest.approx(2.0, rel=1e-6)     # its own clock, twice as fast
+    assert result["y"][-1] == pytest.approx(1.0, rel=1e-9)             # the independent variable
+
+
+def test_time_declared_by_the_simulated_model_itself_is_a_located_error(sources):
+    path = sources.write("Clock.dyad", CLOCK)
+    with pytest.raises(DyadError) as caught:
+        flatten_model(f"{path}:Clock")
+    err = caught.value
+    assert (err.span.line, err.span.column) == (2, 3)
+    assert err.message == ("`time` cannot be declared by the simulated model itself: its flat name "
+                           "would be the independent variable's")
+    assert err.hint == "simulate a component that contains this one (`c = Clock()`), where it is `c.time`, or rename it (`t_local`)"
