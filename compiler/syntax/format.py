@@ -84,7 +84,10 @@ def format_expr(e) -> str:
     if isinstance(e, ast.ArrayLit):
         return _array(e)
     if isinstance(e, ast.Comprehension):
-        inner = f"{format_expr(e.expr)} for {_iterators(e.iterators)}"
+        clauses = "".join(f" for {_iterators(c.iterators)}"
+                          + (f" if {format_expr(c.condition)}" if c.condition is not None else "")
+                          for c in e.clauses)
+        inner = f"{format_expr(e.expr)}{clauses}"
         return inner if e.generator else f"[{inner}]"
     raise TypeError(f"not an expression node: {e!r}")
 

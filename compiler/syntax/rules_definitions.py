@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from lark import Token
 
+from compiler.errors import DyadError
 from compiler.syntax import ast
 from compiler.syntax.build_support import (
     Binding, Body, Doc, Metadata, RelationsSection, RuleBase, Suffix, TypeCall, TypePart,
@@ -285,7 +286,14 @@ class DefinitionRules(RuleBase):
 
     def component_array_decl(self, meta, children):
         doc, rest = split_doc(children)
-        suffixes, (name, call, iterators) = split_suffixes(rest, "a component array")
+        suffixes, (name, call, first, *more) = split_suffixes(rest, "a component array")
+        extra = more[0] if more else first if first.condition is not None else None
+        if extra is not None:
+            raise DyadError("an array of components takes one `for` clause without a filter: its "
+                            "elements are numbered by the iterators", extra.span,
+                            hint="declare a conditional component per index instead "
+                                 "(`r_2 = R() if n > 1`), or make the range hold only the indices wanted")
+        iterators = first.iterators
         return ast.ComponentDecl(name.value, call.name, call.modifications, iterators=iterators,
                                  doc=doc, metadata=suffixes.metadata,
                                  condition=suffixes.condition, span=self._span(meta),

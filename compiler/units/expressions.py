@@ -236,15 +236,16 @@ class ExpressionUnits:
         return None                     # a library or Julia function: its unit is not declared
 
     def comprehension(self, expr: ast.Comprehension, scope: EvalScope) -> Any:
-        try:
-            first = iteration_values(expr.iterators[0].iterable, scope)
-        except DyadError:
-            return None
-        if not first:
-            return FREE
-        inner = scope.bind(**{expr.iterators[0].variable: first[0]})
-        if len(expr.iterators) > 1:
-            return self.comprehension(ast.Comprehension(expr.expr, expr.iterators[1:], expr.span), inner)
+        """The unit of the element at every iterator's first value (all elements share it)."""
+        inner = scope
+        for iterator in (it for clause in expr.clauses for it in clause.iterators):
+            try:
+                first = iteration_values(iterator.iterable, inner)
+            except DyadError:
+                return None
+            if not first:
+                return FREE
+            inner = inner.bind(**{iterator.variable: first[0]})
         return self.of(expr.expr, inner)
 
 

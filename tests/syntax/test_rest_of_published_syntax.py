@@ -52,3 +52,37 @@ def test_a_relative_using_above_the_top_level_is_a_located_error():
     err = caught.value
     assert (err.span.line, err.span.column) == (2, 3)
     assert "above the top-level packages" in err.message and err.hint == "name the package absolutely: `using Far`"
+
+
+# ------------------------------------------------------------------ comprehensions: filters, nesting
+
+def parameter_value(text: str) -> ast.Expr:
+    (definition,) = parse(f"component T\n  parameter v::Real[:] = {text}\nend\n").definitions
+    return definition.declarations[0].default
+
+
+def test_a_filtered_comprehension_keeps_its_condition():
+    comp = parameter_value("[i^2 for i in 1:5 if i > 2]")
+    assert isinstance(comp, ast.Comprehension) and comp.is_vector and comp.more == ()
+    assert [it.variable for it in comp.iterators] == ["i"]
+    assert comp.condition == ast.BinaryOp(">", ast.Ref((ast.RefPart("i"),)), ast.Number(2))
+
+
+def test_nested_fors_each_with_its_own_filter_and_a_generator_argument():
+    comp = parameter_value("[i * j for i in 1:3 if i > 1 for j in 1:i, k in 1:2 if j != k]")
+    assert [[it.variable for it in c.iterators] for c in comp.clauses] == [["i"], ["j", "k"]]
+    assert [c.condition is not None for c in comp.clauses] == [True, True]
+    call = parameter_value("sum(i for i in 1:4 if i % 2 == 0)")
+    (generator,) = call.args
+    assert generator.generator and generator.condition is not None
+
+
+def test_a_comprehension_spread_over_lines_is_not_a_matrix():
+    comp = parameter_value("[i\n    for i in 1:3\n    if i > 1]")
+    assert isinstance(comp, ast.Comprehension) and comp.condition is not None
+
+
+def test_an_array_of_components_with_a_filter_is_a_located_error():
+    err = error("component T\n  r = [R() for i in 1:3 if i > 1]\nend\n")
+    assert (err.span.line, err.span.column) == (2, 12)
+    assert err.message.startswith("an array of components takes one `for` clause without a filter")

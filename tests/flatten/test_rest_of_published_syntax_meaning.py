@@ -72,3 +72,35 @@ def test_time_declared_by_the_simulated_model_itself_is_a_located_error(sources)
     assert err.message == ("`time` cannot be declared by the simulated model itself: its flat name "
                            "would be the independent variable's")
     assert err.hint == "simulate a component that contains this one (`c = Clock()`), where it is `c.time`, or rename it (`t_local`)"
+
+
+def test_filtered_and_nested_comprehensions_are_vectors_in_julias_order(sources):
+    flat = sources.flatten("""
+        component C
+          parameter n::Integer = 3
+          parameter odd::Real[:] = [i^2 for i in 1:5 if i % 2 == 1]
+          parameter pairs::Real[:] = [10 * i + j for i in 1:n for j in i:n if j > i]
+          parameter total::Real = sum(i for i in 1:n if i > 1)
+          parameter grid::Real[2, 3] = [i + j for i in 1:2, j in 1:3]
+          variable x::Real
+        relations
+          x = sum(odd) + sum(pairs) + total + grid[2, 3]
+        end
+    """)
+    values = {p.name: p.value for p in flat.parameters}
+    assert [values[f"odd[{k}]"] for k in (1, 2, 3)] == [1, 9, 25]
+    assert [values[f"pairs[{k}]"] for k in (1, 2, 3)] == [12, 13, 23]
+    assert "pairs[4]" not in values and values["total"] == 5 and values["grid[2,3]"] == 5
+
+
+def test_a_filter_on_a_run_time_value_is_a_located_error(sources):
+    err = sources.error("""
+        component C
+          variable x::Real
+          variable y::Real[2] = [x * i for i in 1:3 if x > i]
+        relations
+          x = 1
+        end
+    """, marker="if x > i")
+    assert err.message.startswith("the `if` filter of a comprehension must be known when the model is compiled")
+    assert (err.span.column, err.notes[0].message) == (48, "a parameter expression cannot depend on variable `x`")
