@@ -74,9 +74,14 @@ class IfRelation:
 
 @dataclass(frozen=True)
 class SwitchCase:
-    names: tuple[str, ...]                      # `case A, B`: the enum members (maybe qualified)
+    names: tuple[str, ...]          # `case A, Gear.B()`: the enum members as written
     body: tuple["Relation", ...]
     span: Span | None = NO_SPAN
+
+    @property
+    def members(self) -> tuple[str, ...]:
+        """The members named, `Gear.B()` (the member as a value) read as `Gear.B`."""
+        return tuple(name.removesuffix("()") for name in self.names)
 
 
 @dataclass(frozen=True)

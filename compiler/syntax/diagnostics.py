@@ -7,6 +7,7 @@ from lark import Token
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 
 from compiler.errors import DyadError, Note, Span
+from compiler.syntax.definition_forms import misplaced_enum
 from compiler.syntax.generator_forms import generator_with_more_arguments
 from compiler.syntax.modelica_forms import modelica_form_error
 
@@ -155,7 +156,8 @@ def _special_case(tok: Token, expected: set[str], blocks: list[OpenBlock], token
     legacy = _legacy_form(tok, tokens, index, innermost, span)
     if legacy is not None:
         return legacy
-    generator = generator_with_more_arguments(tok, tokens, index, expected, found, span)
+    generator = generator_with_more_arguments(tok, tokens, index, expected, found, span) \
+        or misplaced_enum(tok, tokens, index, innermost, span)
     if generator is not None:
         return generator
     adjacent = tokens[index - 1] if 0 < index <= len(tokens) else None

@@ -104,7 +104,7 @@ class RelationRules(RuleBase):
         closed = any(c.closed for c in clauses)
         seen: dict[str, ast.SwitchCase] = {}
         for case in cases:
-            for name in case.names:
+            for name in case.members:
                 if name in seen:
                     raise self._error(f"case `{name}` appears twice in this `switch`", case.span)
                 seen[name] = case
@@ -115,6 +115,14 @@ class RelationRules(RuleBase):
         closed = isinstance(children[-1], Token) and children[-1].type == "CASE_END"
         _, *names, body = children[:-1] if closed else children
         return _CaseClause(ast.SwitchCase(tuple(names), body, span=self._span(meta)), closed)
+
+    def case_label(self, meta, children):
+        """The member as written: `Low`, `Gear.Low`."""
+        return children[0]
+
+    def case_value(self, meta, children):
+        """`Gear.Low()`: the member as a value of its enum, kept as written."""
+        return children[0] + "()"
 
     def relation_list(self, meta, children):
         return tuple(children)

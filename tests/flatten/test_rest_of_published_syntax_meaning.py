@@ -104,3 +104,75 @@ def test_a_filter_on_a_run_time_value_is_a_located_error(sources):
     """, marker="if x > i")
     assert err.message.startswith("the `if` filter of a comprehension must be known when the model is compiled")
     assert (err.span.column, err.notes[0].message) == (48, "a parameter expression cannot depend on variable `x`")
+
+
+def test_an_enum_of_a_package_file_types_parameters_with_defaults_and_selects_cases(sources):
+    sources.write("Drive/Interfaces/Choices.dyad", """
+        "How the gear is chosen"
+        enum GearChoice =
+          | Low
+          | High
+    """)
+    sources.write("Drive/Box.dyad", """
+        using .Interfaces: GearChoice
+        component Box
+          structural parameter gear::GearChoice = GearChoice.Low()
+          parameter ratio::Real = if gear == Drive.Interfaces.GearChoice.High then 4 else 2
+          variable y::Real
+        relations
+          switch gear
+            case GearChoice.Low()
+              y = ratio
+            end
+            case Interfaces.GearChoice.High()
+              y = 10 * ratio
+            end
+          end
+        end
+    """)
+    sources.write("Drive/Rig.dyad", """
+        component Rig
+          low = Box()
+          high = Box(gear = Interfaces.GearChoice.High())
+        end
+    """)
+    flat = flatten_model("Drive.Rig", [str(sources.root)])
+    values = {p.name: p.value for p in flat.parameters}
+    assert (values["low.gear"], values["high.gear"]) == (1, 2)
+    equations = {str(e.residual) for e in flat.equations}
+    assert equations == {"-low.ratio + low.y", "-10*high.ratio + high.y"}
+
+
+def test_nested_switches_keep_the_relations_both_subjects_select(sources):
+    text = """
+        enum Gear = Low | High
+        enum Road = Dry | Wet
+        component Box
+          structural parameter gear::Gear = Gear.Low()
+          structural parameter road::Road = Road.Dry()
+          variable y::Real
+        relations
+          switch gear
+            case Gear.Low()
+              y = 1
+            end
+            case Gear.High()
+              switch road
+                case Dry
+                  y = 2
+                end
+                case Road.Wet()
+                  y = 3
+                end
+              end
+            end
+          end
+        end
+        component Rig
+          a = Box()
+          b = Box(gear = Gear.High())
+          c = Box(gear = Gear.High(), road = Road.Wet())
+        end
+    """
+    flat = sources.flatten(text, "Rig")
+    assert {str(e.residual) for e in flat.equations} == {"a.y - 1", "b.y - 2", "c.y - 3"}

@@ -86,3 +86,56 @@ def test_an_array_of_components_with_a_filter_is_a_located_error():
     err = error("component T\n  r = [R() for i in 1:3 if i > 1]\nend\n")
     assert (err.span.line, err.span.column) == (2, 12)
     assert err.message.startswith("an array of components takes one `for` clause without a filter")
+
+
+# -------------------------------------------------------------------------------- switch, enums
+
+GEARS = """enum Gear = Low | High
+enum Road = Dry | Wet
+component Box
+  structural parameter gear::Gear = Gear.Low()
+  structural parameter road::Road = Road.Dry()
+  variable y::Real
+relations
+  switch gear
+    case Gear.Low(), Gear.High
+      switch road
+        case Dry
+          y = 1
+        end
+        case Road.Wet()
+          y = 2
+        end
+      end
+    end
+  end
+end
+"""
+
+
+def test_cases_name_members_bare_qualified_or_as_values_and_switches_nest():
+    box = parse(GEARS).definitions[2]
+    (outer,) = box.relations
+    (case,) = outer.cases
+    assert case.names == ("Gear.Low()", "Gear.High") and case.members == ("Gear.Low", "Gear.High")
+    (inner,) = case.body
+    assert [c.names for c in inner.cases] == [("Dry",), ("Road.Wet()",)]
+    assert inner.closed_cases and outer.closed_cases
+
+
+def test_a_member_listed_twice_with_and_without_parentheses_is_one_case_too_many():
+    err = error(GEARS.replace("case Gear.Low(), Gear.High", "case Gear.Low(), Gear.Low"))
+    assert (err.span.line, err.message) == (9, "case `Gear.Low` appears twice in this `switch`")
+
+
+def test_an_enum_inside_a_component_is_a_located_error_with_where_to_put_it():
+    err = error("component C\n  enum Mode = Fast | Slow\nend\n")
+    assert (err.span.line, err.span.column) == (2, 3)
+    assert err.message == ("an `enum` is a definition of its own, declared at the top level of a "
+                           "file, not inside component `C`")
+    assert err.hint.startswith("move `enum Mode ...` above `component C`")
+
+
+def test_type_equals_enum_is_a_located_error():
+    err = error("type Mode = enum Low | High\n")
+    assert (err.span.column, err.hint) == (13, "write `enum X = A | B`; an alias of it is `type Y = X`")
