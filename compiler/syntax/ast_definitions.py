@@ -26,6 +26,7 @@ class ConnectorField:
     metadata: str | None = None
     span: Span | None = NO_SPAN
     link: str | None = None
+    value: "Expr | None" = None                 # a `path` field's default: `path medium::M = Water()`
 
 
 @dataclass(frozen=True)

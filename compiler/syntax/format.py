@@ -319,7 +319,8 @@ def _definition(d) -> list[str]:
         lines.append(_at(f"{'partial ' if d.partial else ''}connector {d.name}", d.span))
         for f in d.fields:
             lines += _doc_lines(f.doc, INDENT)
-            lines.append(_at(f"{INDENT}{f.kind} {f.name}::{_type_spec(f.type)}"
+            value = f" = {format_expr(f.value)}" if f.value is not None else ""
+            lines.append(_at(f"{INDENT}{f.kind} {f.name}::{_type_spec(f.type)}{value}"
                              + _suffix(None, f.metadata, f.link), f.span))
         if d.metadata is not None:
             lines.append(f"metadata {d.metadata}")

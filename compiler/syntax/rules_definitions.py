@@ -126,11 +126,17 @@ class DefinitionRules(RuleBase):
 
     def connector_field(self, meta, children):
         doc, rest = split_doc(children)
-        suffixes, (kind, name, type_spec) = split_suffixes(rest, "a connector field")
+        suffixes, (kind, name, type_spec, *value) = split_suffixes(rest, "a connector field")
         if suffixes.condition is not None:
             raise self._error("connector fields cannot be conditional", suffixes.condition_span)
+        if value and kind != "path":
+            raise self._error(f"only a `path` field of a connector has a default value, not a "
+                              f"`{kind}` field", value[0].span,
+                              hint=f"give `{name.value}` its value in the components that use the "
+                                   f"connector (`p = Port({name.value}(guess = 1))`)")
         return ast.ConnectorField(name.value, kind, type_spec, doc=doc, metadata=suffixes.metadata,
-                                  span=self._span(meta), link=suffixes.link)
+                                  span=self._span(meta), link=suffixes.link,
+                                  value=value[0] if value else None)
 
     def field_kind(self, meta, children):
         tok = children[0]

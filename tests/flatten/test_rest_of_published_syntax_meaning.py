@@ -176,3 +176,30 @@ def test_nested_switches_keep_the_relations_both_subjects_select(sources):
     """
     flat = sources.flatten(text, "Rig")
     assert {str(e.residual) for e in flat.equations} == {"a.y - 1", "b.y - 2", "c.y - 3"}
+
+
+def test_path_declarations_with_defaults_add_no_unknowns(sources):
+    flat = sources.flatten("""
+        type Medium = Native
+        connector Port
+          potential p::Real
+          flow m::Real
+          path medium::Medium = Water()
+        end
+        component Pipe
+          path medium::Medium = Oil()
+          a = Port(medium = medium)
+          b = Port()
+        relations
+          continuity(a.medium, b.medium, medium)
+          a.m + b.m = 0
+          a.p - b.p = a.m
+        end
+        component Rig
+          pipe = Pipe()
+        relations
+          pipe.a.p = 1
+          pipe.b.p = 0
+        end
+    """, "Rig")
+    assert sorted(v.name for v in flat.variables) == ["pipe.a.m", "pipe.a.p", "pipe.b.m", "pipe.b.p"]

@@ -139,3 +139,31 @@ def test_an_enum_inside_a_component_is_a_located_error_with_where_to_put_it():
 def test_type_equals_enum_is_a_located_error():
     err = error("type Mode = enum Low | High\n")
     assert (err.span.column, err.hint) == (13, "write `enum X = A | B`; an alias of it is `type Y = X`")
+
+
+# -------------------------------------------------------------------------------------- path
+
+def test_path_declarations_in_connectors_and_components_with_and_without_defaults():
+    port, pipe = parse("""connector Port
+  potential p::Real
+  flow m::Real
+  "the fluid of the whole network" path medium::Medium = Water(rho = 1000) {"Dyad": {}}
+end
+component Pipe
+  path medium::Medium
+  path fluid::Medium = Oil() if wet
+  a = Port(medium = medium)
+end
+""").definitions
+    medium = port.fields[2]
+    assert (medium.kind, medium.doc, medium.value.function) == ("path", "the fluid of the whole network", "Water")
+    assert port.fields[0].value is None
+    plain, conditional = pipe.declarations[:2]
+    assert (plain.kind, plain.value, conditional.kind, conditional.value.function) == ("path", None, "path", "Oil")
+    assert conditional.condition is not None
+
+
+def test_a_default_on_a_connector_field_other_than_path_is_a_located_error():
+    err = error("connector Port\n  potential p::Real = 1\nend\n")
+    assert (err.span.line, err.span.column) == (2, 23)
+    assert err.message == "only a `path` field of a connector has a default value, not a `potential` field"
