@@ -18,7 +18,7 @@ from compiler.syntax.ast_expressions import ArrayLit, BinaryOp, Boolean, Call, C
     Comprehension, End, Expr, ForClause, IfExpr, Iterator, KeywordArg, Number, Range, Ref, RefPart, String, \
     UnaryOp, left_chain
 from compiler.syntax.ast_relations import Connect, Continuity, Equation, ForLoop, Guess, IfBranch, \
-    IfRelation, Relation, Switch, SwitchCase
+    IfRelation, Relation, Switch, SwitchCase, SwitchValue
 
 __all__ = ["AnalysisDef", "ArrayLit", "BinaryOp", "Boolean", "Call", "Colon", "ComponentDecl",
            "ComponentDef", "Comprehension", "Connect", "ConnectorDef", "ConnectorField",
@@ -26,5 +26,5 @@ __all__ = ["AnalysisDef", "ArrayLit", "BinaryOp", "Boolean", "Call", "Colon", "C
            "Extends", "File", "ForClause", "ForLoop", "FunctionParam", "FunctionTypeDef", "Guess", "IfBranch",
            "IfExpr", "IfRelation", "Iterator", "KeywordArg", "Modification", "Number",
            "ParameterDecl", "Range", "Ref", "RefPart", "Relation", "SignalConnectorDef", "String",
-           "StructDef", "Switch", "SwitchCase", "TypeDef", "TypeSpec", "TypedDecl", "UnaryOp",
+           "StructDef", "Switch", "SwitchCase", "SwitchValue", "TypeDef", "TypeSpec", "TypedDecl", "UnaryOp",
            "Using", "VariableDecl", "left_chain", "metadata_dict"]

@@ -98,4 +98,15 @@ class Switch:
     closed_cases: bool = False
 
 
+@dataclass(frozen=True)
+class SwitchValue:
+    """`y = switch gear case Low 1 end case High 2 end end`: the value of the case a structural
+    enum selects. Each case is a SwitchCase whose body is its one value expression; `otherwise`
+    is the `else` value, () when there is none."""
+    subject: "Expr"
+    cases: tuple[SwitchCase, ...]
+    otherwise: tuple["Expr", ...] = ()
+    span: Span | None = NO_SPAN
+
+
 Relation = Union[Equation, Guess, Connect, Continuity, ForLoop, IfRelation, Switch]

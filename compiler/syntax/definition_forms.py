@@ -1,5 +1,6 @@
-"""Located errors for an `enum` written where only other things may stand: inside a component
-(definitions stand at the top level of a file) or as the right side of `type X = ...`."""
+"""Located errors for forms written where they cannot stand: an `enum` inside a component
+(definitions stand at the top level of a file) or as the right side of `type X = ...`, and a
+`switch` value inside a larger expression (it stands alone right after `=`)."""
 from __future__ import annotations
 
 from lark import Token
@@ -26,3 +27,15 @@ def misplaced_enum(tok: Token, tokens, index, innermost, span: Span) -> DyadErro
         return DyadError("`type X = enum ...` is not a form: an enum is declared by itself", span,
                          hint="write `enum X = A | B`; an alias of it is `type Y = X`")
     return None
+
+
+def switch_inside_expression(tok: Token, tokens, index, span: Span) -> DyadError | None:
+    """`y = 2 * switch gear ...`: the word `switch` was read as a name, then `gear` followed it."""
+    previous = tokens[index - 1] if index > 0 else None
+    if previous is None or previous.type != "NAME" or previous.value != "switch" \
+            or previous.line != tok.line or tok.type != "NAME":
+        return None
+    return DyadError("a `switch` value stands alone right after `=`, not inside a larger expression",
+                     Span(span.file, previous.line, previous.column, previous.end_line,
+                          previous.end_column - 1),
+                     hint="give it a name of its own: `variable s::Real = switch ...`, then use `2 * s`")

@@ -83,6 +83,8 @@ def format_expr(e) -> str:
         return f"{e.function}({', '.join(args)})"
     if isinstance(e, ast.ArrayLit):
         return _array(e)
+    if isinstance(e, ast.SwitchValue):
+        return _switch_value(e)
     if isinstance(e, ast.Comprehension):
         clauses = "".join(f" for {_iterators(c.iterators)}"
                           + (f" if {format_expr(c.condition)}" if c.condition is not None else "")
@@ -90,6 +92,16 @@ def format_expr(e) -> str:
         inner = f"{format_expr(e.expr)}{clauses}"
         return inner if e.generator else f"[{inner}]"
     raise TypeError(f"not an expression node: {e!r}")
+
+
+def _switch_value(e: ast.SwitchValue) -> str:
+    """On one line, `;` between its parts: the layout reads each `end` by its tokens there."""
+    parts = [f"switch {format_expr(e.subject)}"]
+    for case in e.cases:
+        parts += [f"case {', '.join(case.names)}", format_expr(case.body[0]), "end"]
+    if e.otherwise:
+        parts += ["else", format_expr(e.otherwise[0]), "end"]
+    return "; ".join(parts + ["end"])
 
 
 def _number(e: ast.Number) -> str:

@@ -150,6 +150,10 @@ def _retype(tok: Token, prev: Token | None, stack: list[_Bracket], inner: str | 
             docstrings: bool, following: Token | None) -> Token:
     if prev is not None and prev.type == "DOT" and tok.type in KEYWORD_TYPES:
         return _synth("NAME", tok.value, tok)
+    if tok.type == "SWITCH" and prev is not None and prev.type == "EQUAL" and not stack \
+            and following is not None and following.line == tok.line \
+            and following.type not in NAME_USES:
+        return _synth("SWITCH_VALUE", tok.value, tok)      # `y = switch gear ...`: a value
     if tok.type in SOFT_KEYWORDS and not _is_statement_keyword(tok, prev, following):
         return _synth("NAME", tok.value, tok)
     if tok.type == "LSQB" and following is not None and following.type == "LBRACE" \

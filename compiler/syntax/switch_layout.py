@@ -52,6 +52,8 @@ def _track(tok: Token, tokens: list[Token], index: int, stack: list[_Block]) -> 
     top = stack[-1] if stack else None
     if kind == "SWITCH":
         stack.append(_Block("switch", tok.column))
+    elif kind == "SWITCH_VALUE":        # `y = switch g`: its cases are deeper than the line's start
+        stack.append(_Block("switch", _line_start(tokens, index).column))
     elif kind == "CASE" or (kind == "ELSE" and top is not None and top.kind in ("switch", "case")):
         if top is not None and top.kind == "case":
             stack.pop()                      # the previous case had no `end` of its own
@@ -93,3 +95,11 @@ def _opens_block(tok: Token, tokens: list[Token], index: int) -> bool:
         return previous is None or previous.type in _STATEMENT_BOUNDARIES \
             or (previous.type == "ELSE" and tok.line > previous.line)
     return False
+
+
+def _line_start(tokens: list[Token], index: int) -> Token:
+    """The first token on the line of tokens[index]."""
+    while index > 0 and tokens[index - 1].line == tokens[index].line \
+            and tokens[index - 1].type not in _SEPARATORS:
+        index -= 1
+    return tokens[index]

@@ -13,6 +13,7 @@ import numpy as np
 
 from compiler.errors import DyadError
 from compiler.model.expressions import EvalScope, Mode, apply_indices, evaluate, is_node_like, \
+    switch_branch, \
     iteration_values
 from compiler.model.instantiate import ParameterInstance, VariableInstance
 from compiler.syntax import ast
@@ -79,6 +80,9 @@ class ExpressionUnits:
             return self.comprehension(expr, scope)
         if kind is ast.Boolean:
             return FREE
+        if kind is ast.SwitchValue:     # the unit of the value the subject selects
+            chosen = switch_branch(expr, scope)
+            return self.of(chosen[0], scope) if chosen else None
         return None                     # strings
 
     def ref(self, ref: ast.Ref, scope: EvalScope) -> Any:
@@ -191,7 +195,8 @@ class ExpressionUnits:
             target = self.target(expr, scope)
             return target is SECONDS or type(target) is VariableInstance
         children = {ast.BinaryOp: lambda e: (e.left, e.right), ast.UnaryOp: lambda e: (e.operand,),
-                    ast.Call: lambda e: e.args, ast.IfExpr: lambda e: (e.condition, e.then, e.otherwise)}
+                    ast.Call: lambda e: e.args, ast.IfExpr: lambda e: (e.condition, e.then, e.otherwise),
+                    ast.SwitchValue: lambda e: tuple(c.body[0] for c in e.cases) + e.otherwise}
         inner = children.get(type(expr))
         return inner is not None and any(self.varies(e, scope) for e in inner(expr))
 

@@ -203,3 +203,49 @@ def test_path_declarations_with_defaults_add_no_unknowns(sources):
         end
     """, "Rig")
     assert sorted(v.name for v in flat.variables) == ["pipe.a.m", "pipe.a.p", "pipe.b.m", "pipe.b.p"]
+
+
+SWITCH_VALUES = """
+    enum Gear = Low | High | Top
+    component Box
+      structural parameter gear::Gear = Gear.High()
+      parameter k::Real = switch gear
+        case Low
+          1.5
+        end
+        case Gear.High(), Top
+          2.5
+        end
+      end
+      variable y::Real
+    relations
+      y = switch gear
+        case Low
+          k
+        end
+        else
+          3 * k
+        end
+      end
+    end
+    component Rig
+      low = Box(gear = Gear.Low())
+      high = Box()
+    end
+"""
+
+
+def test_a_switch_value_is_the_value_of_the_case_its_subject_selects(sources):
+    flat = sources.flatten(SWITCH_VALUES, "Rig")
+    assert {p.name: p.value for p in flat.parameters if p.name.endswith(".k")} == {"low.k": 1.5, "high.k": 2.5}
+    assert {str(e.residual) for e in flat.equations} == {"-low.k + low.y", "-3*high.k + high.y"}
+
+
+def test_a_switch_value_without_the_selected_case_or_else_is_a_located_error(sources):
+    err = sources.error(SWITCH_VALUES.replace("Box(gear = Gear.Low())", "Box(gear = Gear.Top())")
+                        .replace("""        else
+          3 * k
+        end
+""", ""), "Rig", marker="y = switch gear")
+    assert err.message == "no case of this `switch` names the value of its subject, and it has no `else`"
+    assert err.span.column == 7

@@ -167,3 +167,56 @@ def test_a_default_on_a_connector_field_other_than_path_is_a_located_error():
     err = error("connector Port\n  potential p::Real = 1\nend\n")
     assert (err.span.line, err.span.column) == (2, 23)
     assert err.message == "only a `path` field of a connector has a default value, not a `potential` field"
+
+
+SWITCH_VALUES = """enum Gear = Low | High | Top
+component Box
+  structural parameter gear::Gear = Gear.High()
+  parameter k::Real = switch gear
+    case Low
+      1.5
+    end
+    case Gear.High(), Top
+      2.5
+    end
+  end
+  variable y::Real
+relations
+  y = switch gear
+    case Low
+      k
+    end
+    else
+      3 * k
+    end
+  end
+end
+"""
+
+
+def test_a_switch_gives_a_value_in_a_declaration_and_in_an_equation():
+    box = parse(SWITCH_VALUES).definitions[1]
+    value = box.declarations[1].default
+    assert isinstance(value, ast.SwitchValue) and value.otherwise == ()
+    assert [c.names for c in value.cases] == [("Low",), ("Gear.High()", "Top")]
+    assert value.cases[1].body == (ast.Number(2.5),)
+    (equation,) = box.relations
+    assert isinstance(equation.rhs, ast.SwitchValue) and len(equation.rhs.otherwise) == 1
+
+
+def test_a_switch_value_inside_a_larger_expression_is_a_located_error():
+    err = error(SWITCH_VALUES.replace("y = switch gear", "y = 2 * switch gear"))
+    assert (err.span.line, err.span.column) == (14, 11)
+    assert err.message == "a `switch` value stands alone right after `=`, not inside a larger expression"
+    assert err.hint == "give it a name of its own: `variable s::Real = switch ...`, then use `2 * s`"
+
+
+def test_fmt_prints_a_switch_value_on_one_line_that_reads_back_the_same():
+    printed = format_file(parse(SWITCH_VALUES))
+    assert "  parameter k::Real = switch gear; case Low; 1.5; end; case Gear.High(), Top; 2.5; end; end\n" in printed
+    assert parse_source(printed, "again.dyad") == parse(SWITCH_VALUES)
+
+
+def test_switch_still_names_a_component_after_an_equals_sign():
+    (component,) = parse("component T\n  switch = Toggle()\nrelations\n  y = switch.on\nend\n").definitions
+    assert component.relations[0].rhs == ast.Ref((ast.RefPart("switch"), ast.RefPart("on")))
