@@ -249,3 +249,25 @@ def test_a_switch_value_without_the_selected_case_or_else_is_a_located_error(sou
 """, ""), "Rig", marker="y = switch gear")
     assert err.message == "no case of this `switch` names the value of its subject, and it has no `else`"
     assert err.span.column == 7
+
+
+def test_an_if_expression_inside_a_case_of_a_switch_value_is_the_cases_value(sources):
+    flat = sources.flatten("""
+        enum Gear = Low | High
+        component C
+          structural parameter gear::Gear = Gear.High()
+          parameter wet::Boolean = false
+          variable y::Real
+        relations
+          y = switch gear
+            case Low
+              if wet then 1 else 2
+            end
+            else
+              if wet then 3 else 4
+            end
+          end
+        end
+    """)
+    (equation,) = flat.equations
+    assert str(equation.residual) == "y - Piecewise((3, wet > 1/2), (4, True))"
