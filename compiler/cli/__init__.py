@@ -11,7 +11,8 @@ import importlib
 import os
 import sys
 
-from compiler.cli.process import BLAS_THREAD_VARIABLES, blas_on_one_thread, exit_without_teardown, warning_line
+from compiler.cli.process import (BLAS_THREAD_VARIABLES, blas_on_one_thread, exit_without_teardown,
+                                  quiet_closed_pipe, warning_line)
 from compiler.errors import DyadError
 
 __all__ = ["BLAS_THREAD_VARIABLES", "COMMANDS", "FAMILIES", "blas_on_one_thread", "build_parser",
@@ -96,6 +97,8 @@ def run_command(argv: list[str] | None = None) -> int:
     except DyadError as err:
         print(err.format(), file=sys.stderr)
         return 1
+    except BrokenPipeError:                      # `dyadc inspect M | head`: the reader is gone
+        return quiet_closed_pipe()
     except KeyboardInterrupt as err:             # a run says where: "interrupted at t = ..."
         print(str(err) or "interrupted", file=sys.stderr)
         return 130

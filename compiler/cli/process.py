@@ -25,13 +25,31 @@ def warning_line(message, category, filename, lineno, file=None, line=None) -> N
     print(message if located else f"warning: {message}", file=file or sys.stderr)
 
 
+# The status a shell reports for a process ended by SIGPIPE (128 + 13), as `yes | head` ends.
+CLOSED_PIPE_STATUS = 141
+
+
+def quiet_closed_pipe() -> int:
+    """The reader of our output went away (`dyadc inspect M | head`): stop writing, as Unix tools
+    do, without a message. Python ignores SIGPIPE, so a write raises BrokenPipeError instead;
+    standard output is pointed at the null device so that no later flush (ours or Python's at
+    exit) raises it again. Returns the exit status to end with."""
+    try:
+        null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(null, sys.stdout.fileno())
+        os.close(null)
+    except (OSError, ValueError):       # no file descriptor behind sys.stdout (a test's capture)
+        pass
+    return CLOSED_PIPE_STATUS
+
+
 def exit_without_teardown(status: int) -> None:
     """End this process with `status` once its output is written and its atexit handlers ran
     (temporary folders, log handlers, child processes), without Python's teardown, which frees the
     compiler's sympy expressions one by one (docs/cache.md, "How fast"). Nothing is lost: dyadc
     closes every file it writes; the process ends normally instead when a thread besides the main
-    one is still running (its work would be cut short) or the output cannot be flushed (a closed
-    pipe: Python's own exit reports it)."""
+    one is still running (its work would be cut short) or the output cannot be flushed for another
+    reason than a closed pipe (Python's own exit reports it)."""
     import atexit
     import threading
     run_exit_handlers = getattr(atexit, "_run_exitfuncs", None)
@@ -40,6 +58,8 @@ def exit_without_teardown(status: int) -> None:
     try:
         sys.stdout.flush()
         sys.stderr.flush()
+    except BrokenPipeError:
+        status = quiet_closed_pipe()
     except (OSError, ValueError):
         return
     run_exit_handlers()

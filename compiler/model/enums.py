@@ -33,7 +33,7 @@ def selected_case(relation: ast.Switch, scope: EvalScope, value: int) -> tuple:
     `else` when no case names it)."""
     enum_name = _subject_enum(relation.subject, scope)
     for case in relation.cases:
-        for name in case.names:
+        for name in case.members:
             qualified = name if "." in name else f"{enum_name}.{name}" if enum_name else None
             index = enum_member_value(qualified, scope.lexical, case.span) if qualified else None
             if index is None:

@@ -11,10 +11,10 @@ from typing import Any, Callable
 import numpy as np
 import sympy
 
-from compiler.errors import DyadError
+from compiler.errors import DyadError, Note
 from compiler.model.arithmetic import stack
 from compiler.model.eval_scope import EvalScope, Mode
-from compiler.model.eval_values import numeric, structural_int
+from compiler.model.eval_values import numeric, structural_bool, structural_int
 from compiler.model.functions import as_array, is_array
 from compiler.model.ranges import float_range, is_fractional
 from compiler.model.size_limits import check_elements, range_length
@@ -76,6 +76,9 @@ def array_literal(expr: ast.ArrayLit, scope: EvalScope, mode: Mode,
 def comprehension(expr: ast.Comprehension, scope: EvalScope, mode: Mode,
                   evaluate: Evaluate) -> Any:
     """`[f(i, j) for i in r, j in s]`, bounded by the element limit."""
+    if expr.is_vector:
+        return _vector_comprehension(expr, scope, mode, evaluate)
+
     def expand(level: int, inner: EvalScope, outer: int) -> Any:
         if level == len(expr.iterators):
             return numeric(evaluate(expr.expr, inner, mode), expr.span)
@@ -87,3 +90,40 @@ def comprehension(expr: ast.Comprehension, scope: EvalScope, mode: Mode,
                  for v in values]
         return stack(items, expr.span)
     return expand(0, scope, 1)
+
+
+def _vector_comprehension(expr: ast.Comprehension, scope: EvalScope, mode: Mode,
+                          evaluate: Evaluate) -> Any:
+    """`[f(i, j) for i in r if c for j in s(i) if d]`: the elements whose clauses' conditions
+    hold, in one vector, the last iterator varying fastest (Julia's order). A condition must be
+    known at compile time: it decides how many elements there are."""
+    iterators = [(it, clause) for clause in expr.clauses for it in clause.iterators]
+    elements: list[Any] = []
+
+    def walk(level: int, inner: EvalScope) -> None:
+        if level == len(iterators):
+            elements.append(numeric(evaluate(expr.expr, inner, mode), expr.span))
+            check_elements(len(elements), expr.span, "this comprehension")
+            return
+        it, clause = iterators[level]
+        last_of_clause = it is clause.iterators[-1]
+        for value in iteration_values(it.iterable, inner, evaluate):
+            bound = inner.bind(**{it.variable: value})
+            if last_of_clause and clause.condition is not None and not _passes(clause.condition, bound):
+                continue
+            walk(level + 1, bound)
+    def _passes(condition: ast.Expr, inner: EvalScope) -> bool:
+        try:
+            value = evaluate(condition, inner, Mode.STRUCTURAL)
+        except DyadError as err:
+            if "cannot depend on" not in err.message:     # not a run-time value: another error
+                raise
+            raise DyadError("the `if` filter of a comprehension must be known when the model is "
+                            "compiled: it decides how many elements there are", condition.span,
+                            notes=[Note(err.message, err.span)],
+                            hint="filter on parameters and iterators, or keep every element and "
+                                 "select its value with `ifelse(c, a, 0)`") from None
+        return structural_bool(value, condition.span)
+
+    walk(0, scope)
+    return stack(elements, expr.span)

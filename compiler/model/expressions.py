@@ -252,12 +252,20 @@ def _call(expr: ast.Call, scope: EvalScope, mode: Mode) -> Any:
         raise DyadError(f"bad arguments for `{name}`: {exc}", span) from exc
 
 
-def switch_branch(relation: ast.Switch, scope: EvalScope) -> tuple:
-    """The relations of the case of `switch subject` that the subject's structural value selects
-    (its `else` when no case names it)."""
+def switch_branch(relation: ast.Switch | ast.SwitchValue, scope: EvalScope) -> tuple:
+    """The relations (or, of a switch value, the one value) of the case of `switch subject` that
+    the subject's structural value selects (its `else` when no case names it)."""
     value = structural_int(evaluate(relation.subject, scope, Mode.STRUCTURAL), relation.span,
                            "a switch subject")
     return selected_case(relation, scope, value)
+
+
+def _switch_value(expr: ast.SwitchValue, scope: EvalScope, mode: Mode) -> Any:
+    chosen = switch_branch(expr, scope)
+    if not chosen:
+        raise DyadError("no case of this `switch` names the value of its subject, and it has no "
+                        "`else`", expr.span, hint="add a case for every member, or an `else` value")
+    return evaluate(chosen[0], scope, mode)
 
 
 def _julia_call(function: Any, args: list, expr: ast.Call, scope: EvalScope, mode: Mode) -> Any:
@@ -282,5 +290,5 @@ _HANDLERS = {
     ast.Number: _number, ast.String: _string, ast.Boolean: _boolean, ast.End: _end,
     ast.Colon: _colon, ast.Ref: _ref, ast.Range: _range, ast.UnaryOp: _unary,
     ast.BinaryOp: _binary, ast.IfExpr: _if, ast.ArrayLit: _array_literal,
-    ast.Comprehension: _comprehension, ast.Call: _call,
+    ast.Comprehension: _comprehension, ast.Call: _call, ast.SwitchValue: _switch_value,
 }

@@ -22,7 +22,8 @@ from compiler.model.instances import Instance, Model, check_not_recursive, scala
 from compiler.model.library import PRIMITIVE_TYPES, Library, Resolved
 from compiler.model.parameters import ParameterInstance
 from compiler.model.size_limits import check_elements, check_shape
-from compiler.model.templates import BoundMod, ElementTemplate, Template, nested_mods, normalize
+from compiler.model.templates import (BoundMod, ElementTemplate, Template, check_top_level_names, nested_mods,
+                                      normalize)
 from compiler.model.variables import VariableInstance, fill_connector, join_path
 from compiler.syntax import ast
 
@@ -37,6 +38,7 @@ def instantiate(resolved: Resolved, library: Library, outer: tuple[BoundMod, ...
         raise DyadError(f"`{resolved.qualified_name}` is not a component",
                         resolved.definition.span)
     model = Model(library)
+    check_top_level_names(model.template(resolved))
     model.root = _instantiate(model, resolved, "", None, list(outer), resolved.definition.span)
     return model
 

@@ -212,7 +212,7 @@ class Library(FunctionLookup):
         head = name.split(".", 1)[0]
         for using in (file.usings if file else ()):
             if not using.names or head in using.names:
-                out.append(f"{using.package}.{name}")
+                out.append(f"{using.absolute_package(package)}.{name}")
         if "." in name or not package:       # an unqualified name never leaves its package
             out.append(name)
         out.append(f"{STANDARD_PACKAGE}.{name}")

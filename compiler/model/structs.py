@@ -70,7 +70,7 @@ def is_dyaddata_type(name: str, file) -> bool:
         return False
     if package == DYADDATA_PACKAGE:
         return True
-    return not package and any(using.package == DYADDATA_PACKAGE
+    return not package and any(using.written == DYADDATA_PACKAGE
                                and (not using.names or short in using.names)
                                for using in getattr(file, "usings", ()))
 

@@ -51,16 +51,18 @@ def check_final(entries: list[BoundMod], declared_final: bool, decl_span: Span |
                             notes=[Note("made final here", entry.mod.span)])
 
 
-RESERVED_NAMES = {"time": ("the independent variable (simulation time)",
-                           "rename the declaration, e.g. `t0` or `t_start` for an instant")}
-
-
-def check_not_reserved(name: str, span: Span | None) -> None:
-    """`time` is built in: a declaration of that name would silently shadow or clash with it."""
-    reserved = RESERVED_NAMES.get(name)
-    if reserved is not None:
-        meaning, hint = reserved
-        raise DyadError(f"`{name}` is a reserved name: it is {meaning}", span, hint=hint)
+def check_top_level_names(template: "Template") -> None:
+    """`time` may name a declaration of a component used inside another (`c.time`: inside `c`
+    the declaration shadows the independent variable, as a local name shadows an outer one), but
+    not of the simulated model itself, where its flat name would be the independent variable's
+    own (and the results' `time` column): that would silently be one quantity."""
+    for element in template.elements:
+        if element.name == "time":
+            name = template.resolved.name
+            raise DyadError("`time` cannot be declared by the simulated model itself: its flat name "
+                            "would be the independent variable's", element.decl.span,
+                            hint=f"simulate a component that contains this one (`c = {name}()`), "
+                                 "where it is `c.time`, or rename it (`t_local`)")
 
 
 @dataclass
@@ -113,7 +115,6 @@ def build_template(resolved: Resolved, library: Library, seen: tuple[str, ...] =
     relations.extend((rel, lexical) for rel in getattr(definition, "relations", ()))
     seen_names: dict[str, ElementTemplate] = {}
     for element in elements:
-        check_not_reserved(element.name, element.decl.span)
         first = seen_names.get(element.name)
         if first is not None:
             inherited = first.owner != resolved.qualified_name

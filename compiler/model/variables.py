@@ -11,7 +11,7 @@ from compiler.errors import DyadError, Span, suggest_name
 from compiler.model.expressions import EvalScope, Lexical, Mode, evaluate, structural_int
 from compiler.model.size_limits import check_shape
 from compiler.model.library import Resolved
-from compiler.model.templates import BoundMod, TypeInfo, check_not_reserved, resolve_value_type
+from compiler.model.templates import BoundMod, TypeInfo, resolve_value_type
 from compiler.syntax import ast
 
 VARIABLE_ATTRIBUTES = ("initial", "guess", "start", "units", "min", "max", "state_priority",
@@ -116,7 +116,6 @@ def fill_connector(node: Any, definition: ast.ConnectorDef, resolved: Resolved,
             raise DyadError(f"connector `{definition.name}` has no field `{name}`",
                             entries[0].mod.span, hint=suggest_name(name, names))
     for fld in definition.fields:
-        check_not_reserved(fld.name, fld.span)
         if fld.kind == "path":
             # A path field carries a value of the whole connected path (a fluid medium, a Julia
             # `Native` object) that is neither an unknown nor an equation: it is recorded, and

@@ -15,16 +15,16 @@ from compiler.syntax.ast_definitions import AnalysisDef, ComponentDef, Connector
     ConnectorField, Definition, EnumDef, File, FunctionParam, FunctionTypeDef, SignalConnectorDef, \
     StructDef, TypeDef, Using, metadata_dict
 from compiler.syntax.ast_expressions import ArrayLit, BinaryOp, Boolean, Call, Colon, \
-    Comprehension, End, Expr, IfExpr, Iterator, KeywordArg, Number, Range, Ref, RefPart, String, \
+    Comprehension, End, Expr, ForClause, IfExpr, Iterator, KeywordArg, Number, Range, Ref, RefPart, String, \
     UnaryOp, left_chain
 from compiler.syntax.ast_relations import Connect, Continuity, Equation, ForLoop, Guess, IfBranch, \
-    IfRelation, Relation, Switch, SwitchCase
+    IfRelation, Relation, Switch, SwitchCase, SwitchValue
 
 __all__ = ["AnalysisDef", "ArrayLit", "BinaryOp", "Boolean", "Call", "Colon", "ComponentDecl",
            "ComponentDef", "Comprehension", "Connect", "ConnectorDef", "ConnectorField",
            "Continuity", "Declaration", "Definition", "End", "EnumDef", "Equation", "Expr",
-           "Extends", "File", "ForLoop", "FunctionParam", "FunctionTypeDef", "Guess", "IfBranch",
+           "Extends", "File", "ForClause", "ForLoop", "FunctionParam", "FunctionTypeDef", "Guess", "IfBranch",
            "IfExpr", "IfRelation", "Iterator", "KeywordArg", "Modification", "Number",
            "ParameterDecl", "Range", "Ref", "RefPart", "Relation", "SignalConnectorDef", "String",
-           "StructDef", "Switch", "SwitchCase", "TypeDef", "TypeSpec", "TypedDecl", "UnaryOp",
+           "StructDef", "Switch", "SwitchCase", "SwitchValue", "TypeDef", "TypeSpec", "TypedDecl", "UnaryOp",
            "Using", "VariableDecl", "left_chain", "metadata_dict"]

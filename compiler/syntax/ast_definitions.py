@@ -7,7 +7,7 @@ import json
 from dataclasses import dataclass, field
 from typing import Union
 
-from compiler.errors import Span
+from compiler.errors import DyadError, Span
 from compiler.syntax.ast_declarations import Declaration, Extends, TypeSpec, TypedDecl
 from compiler.syntax.ast_expressions import NO_SPAN
 from compiler.syntax.ast_relations import Relation
@@ -26,6 +26,7 @@ class ConnectorField:
     metadata: str | None = None
     span: Span | None = NO_SPAN
     link: str | None = None
+    value: "Expr | None" = None                 # a `path` field's default: `path medium::M = Water()`
 
 
 @dataclass(frozen=True)
@@ -124,10 +125,31 @@ class AnalysisDef:
 
 @dataclass(frozen=True)
 class Using:
-    """`using Package: a, b` or `using Package`."""
+    """`using Package: a, b` or `using Package`; `level` counts the leading dots of a relative
+    `using .Sub` (1) or `using ..Sibling` (2), whose `package` is the name after the dots."""
     package: str
     names: tuple[str, ...] = ()
     span: Span | None = NO_SPAN
+    level: int = 0
+
+    @property
+    def written(self) -> str:
+        """The package as written: `..Sibling`."""
+        return "." * self.level + self.package
+
+    def absolute_package(self, within: str) -> str:
+        """The package this names from a file of package `within`, as Julia reads a relative
+        path: `.` is `within` itself, each further dot one enclosing package up, and above the
+        top-level package are the top-level packages (`using ..Other` in package `P`)."""
+        if not self.level:
+            return self.package
+        parts = within.split(".") if within else []
+        base = parts[:max(len(parts) - (self.level - 1), 0)]
+        if self.level - 1 > len(parts):
+            raise DyadError(f"`using {self.written}` goes {self.level - 1} package level(s) up from "
+                            f"`{within or 'the top level'}`, above the top-level packages", self.span,
+                            hint=f"name the package absolutely: `using {self.package}`")
+        return ".".join(base + [self.package])
 
 
 Definition = Union[ComponentDef, ConnectorDef, SignalConnectorDef, TypeDef, EnumDef, AnalysisDef,

@@ -171,15 +171,38 @@ class Iterator:
 
 
 @dataclass(frozen=True)
-class Comprehension:
-    """`[expr for i in 1:n]` (several iterators allowed).
+class ForClause:
+    """One `for i in r, j in s [if cond]` of a comprehension after its first."""
+    iterators: tuple[Iterator, ...]
+    condition: "Expr | None" = None
+    span: Span | None = NO_SPAN
 
+
+@dataclass(frozen=True)
+class Comprehension:
+    """`[expr for i in 1:n]` (several iterators allowed), as in Julia also filtered
+    `[expr for i in 1:n if cond]` (`condition`) and nested `[expr for i in 1:n for j in 1:i]`
+    (`more`: the clauses after the first, each inside the one before).
+
+    Without filter and nesting, `for i in r, j in s` is an array of shape (len r, len s); with
+    either, the elements that pass form one vector, the last clause varying fastest (Julia).
     `generator` marks Julia's bracketless form, the sole argument of a call: `sum(x[i] for i in 1:n)`
     means `sum([x[i] for i in 1:n])`; the flag only lets `dyadc fmt` print it as written."""
     expr: "Expr"
     iterators: tuple[Iterator, ...]
     span: Span | None = NO_SPAN
     generator: bool = False
+    condition: "Expr | None" = None
+    more: tuple[ForClause, ...] = ()
+
+    @property
+    def clauses(self) -> tuple[ForClause, ...]:
+        return (ForClause(self.iterators, self.condition, self.span),) + self.more
+
+    @property
+    def is_vector(self) -> bool:
+        """A filter or a nested `for` makes the result one vector."""
+        return self.condition is not None or bool(self.more)
 
 
 Expr = Union[Number, String, Boolean, End, Colon, Ref, Range, UnaryOp, BinaryOp, IfExpr, Call,

@@ -74,9 +74,14 @@ class IfRelation:
 
 @dataclass(frozen=True)
 class SwitchCase:
-    names: tuple[str, ...]                      # `case A, B`: the enum members (maybe qualified)
+    names: tuple[str, ...]          # `case A, Gear.B()`: the enum members as written
     body: tuple["Relation", ...]
     span: Span | None = NO_SPAN
+
+    @property
+    def members(self) -> tuple[str, ...]:
+        """The members named, `Gear.B()` (the member as a value) read as `Gear.B`."""
+        return tuple(name.removesuffix("()") for name in self.names)
 
 
 @dataclass(frozen=True)
@@ -91,6 +96,17 @@ class Switch:
     span: Span | None = NO_SPAN
     doc: str | None = None
     closed_cases: bool = False
+
+
+@dataclass(frozen=True)
+class SwitchValue:
+    """`y = switch gear case Low 1 end case High 2 end end`: the value of the case a structural
+    enum selects. Each case is a SwitchCase whose body is its one value expression; `otherwise`
+    is the `else` value, () when there is none."""
+    subject: "Expr"
+    cases: tuple[SwitchCase, ...]
+    otherwise: tuple["Expr", ...] = ()
+    span: Span | None = NO_SPAN
 
 
 Relation = Union[Equation, Guess, Connect, Continuity, ForLoop, IfRelation, Switch]

@@ -7,6 +7,7 @@ from lark import Token
 from lark.exceptions import UnexpectedCharacters, UnexpectedInput, UnexpectedToken
 
 from compiler.errors import DyadError, Note, Span
+from compiler.syntax.definition_forms import misplaced_enum, switch_inside_expression
 from compiler.syntax.generator_forms import generator_with_more_arguments
 from compiler.syntax.modelica_forms import modelica_form_error
 
@@ -25,7 +26,7 @@ _DESCRIPTIONS = {
     "COMPARE_OP": "a comparison operator", "_HSEP": "another matrix element",
 }
 _EXPRESSION_STARTS = {"NAME", "NUMBER", "STRING", "LONG_STRING", "LPAR", "LSQB", "MINUS", "PLUS",
-                      "BANG", "TRUE", "FALSE", "IF", "END_INDEX"}
+                      "BANG", "TRUE", "FALSE", "IF", "END_INDEX", "SWITCH_VALUE"}
 _DECLARATION_STARTS = {"PARAMETER", "VARIABLE", "FINAL", "STRUCTURAL", "CONSTANT", "EXTENDS",
                        "INPUT", "OUTPUT"}
 _DEFINITION_STARTS = {"COMPONENT", "CONNECTOR", "ANALYSIS", "TYPE", "ENUM", "USING", "PARTIAL",
@@ -155,7 +156,9 @@ def _special_case(tok: Token, expected: set[str], blocks: list[OpenBlock], token
     legacy = _legacy_form(tok, tokens, index, innermost, span)
     if legacy is not None:
         return legacy
-    generator = generator_with_more_arguments(tok, tokens, index, expected, found, span)
+    generator = generator_with_more_arguments(tok, tokens, index, expected, found, span) \
+        or misplaced_enum(tok, tokens, index, innermost, span) \
+        or switch_inside_expression(tok, tokens, index, span)
     if generator is not None:
         return generator
     adjacent = tokens[index - 1] if 0 < index <= len(tokens) else None

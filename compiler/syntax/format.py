@@ -83,10 +83,25 @@ def format_expr(e) -> str:
         return f"{e.function}({', '.join(args)})"
     if isinstance(e, ast.ArrayLit):
         return _array(e)
+    if isinstance(e, ast.SwitchValue):
+        return _switch_value(e)
     if isinstance(e, ast.Comprehension):
-        inner = f"{format_expr(e.expr)} for {_iterators(e.iterators)}"
+        clauses = "".join(f" for {_iterators(c.iterators)}"
+                          + (f" if {format_expr(c.condition)}" if c.condition is not None else "")
+                          for c in e.clauses)
+        inner = f"{format_expr(e.expr)}{clauses}"
         return inner if e.generator else f"[{inner}]"
     raise TypeError(f"not an expression node: {e!r}")
+
+
+def _switch_value(e: ast.SwitchValue) -> str:
+    """On one line, `;` between its parts: the layout reads each `end` by its tokens there."""
+    parts = [f"switch {format_expr(e.subject)}"]
+    for case in e.cases:
+        parts += [f"case {', '.join(case.names)}", format_expr(case.body[0]), "end"]
+    if e.otherwise:
+        parts += ["else", format_expr(e.otherwise[0]), "end"]
+    return "; ".join(parts + ["end"])
 
 
 def _number(e: ast.Number) -> str:
@@ -316,7 +331,8 @@ def _definition(d) -> list[str]:
         lines.append(_at(f"{'partial ' if d.partial else ''}connector {d.name}", d.span))
         for f in d.fields:
             lines += _doc_lines(f.doc, INDENT)
-            lines.append(_at(f"{INDENT}{f.kind} {f.name}::{_type_spec(f.type)}"
+            value = f" = {format_expr(f.value)}" if f.value is not None else ""
+            lines.append(_at(f"{INDENT}{f.kind} {f.name}::{_type_spec(f.type)}{value}"
                              + _suffix(None, f.metadata, f.link), f.span))
         if d.metadata is not None:
             lines.append(f"metadata {d.metadata}")
@@ -348,7 +364,7 @@ def format_blocks(file: ast.File) -> list[list[str]]:
     which a blank line separates."""
     blocks = []
     if file.usings:
-        blocks.append([_at(f"using {u.package}" + (f": {', '.join(u.names)}" if u.names else ""), u.span)
+        blocks.append([_at(f"using {u.written}" + (f": {', '.join(u.names)}" if u.names else ""), u.span)
                        for u in file.usings])
     blocks += [_definition(d) for d in file.definitions]
     return blocks

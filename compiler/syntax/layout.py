@@ -72,7 +72,7 @@ class LayoutError(Exception):
 @dataclass
 class _Bracket:
     token: Token
-    kind: str            # 'paren' | 'index' | 'array' | 'brace'
+    kind: str            # 'paren' | 'index' | 'array' | 'comprehension' | 'brace' | 'meta'
 
 
 def _synth(type_: str, value: str, at: Token) -> Token:
@@ -138,6 +138,9 @@ def arrange(tokens: list[Token], docstrings: bool = True) -> list[Token]:
             stack.append(_Bracket(tok, "index" if indexes else "array"))
         elif tok.type in CLOSERS:
             stack.pop()
+        elif tok.type == "FOR" and inner == "array":
+            # `[f(i) for i in 1:n if c]`: no matrix rows in a comprehension, `if` is its filter
+            stack[-1] = _Bracket(stack[-1].token, "comprehension")
         out.append(tok)
         prev = tok
     return out
@@ -147,6 +150,10 @@ def _retype(tok: Token, prev: Token | None, stack: list[_Bracket], inner: str | 
             docstrings: bool, following: Token | None) -> Token:
     if prev is not None and prev.type == "DOT" and tok.type in KEYWORD_TYPES:
         return _synth("NAME", tok.value, tok)
+    if tok.type == "SWITCH" and prev is not None and prev.type == "EQUAL" and not stack \
+            and following is not None and following.line == tok.line \
+            and following.type not in NAME_USES:
+        return _synth("SWITCH_VALUE", tok.value, tok)      # `y = switch gear ...`: a value
     if tok.type in SOFT_KEYWORDS and not _is_statement_keyword(tok, prev, following):
         return _synth("NAME", tok.value, tok)
     if tok.type == "LSQB" and following is not None and following.type == "LBRACE" \
@@ -155,7 +162,7 @@ def _retype(tok: Token, prev: Token | None, stack: list[_Bracket], inner: str | 
     if tok.type == "COLON" and following is not None and following.type == "ANALYSIS_POINT" \
             and inner is None:
         return _synth("AP_COLON", tok.value, tok)
-    if tok.type == "END" and any(b.kind in ("index", "array") for b in stack):
+    if tok.type == "END" and any(b.kind in ("index", "array", "comprehension") for b in stack):
         return _synth("END_INDEX", tok.value, tok)
     if docstrings and tok.type in ("STRING", "LONG_STRING") and inner is None \
             and _opens_statement(prev):

@@ -117,7 +117,7 @@ def summarize(file: ast.File) -> str:
     lines = [f"{file.path}: {len(file.definitions)} definition(s)"]
     for using in file.usings:
         names = f": {', '.join(using.names)}" if using.names else ""
-        lines.append(f"  using {using.package}{names}")
+        lines.append(f"  using {using.written}{names}")
     for definition in file.definitions:
         lines.append("  " + _describe(definition))
     return "\n".join(lines)

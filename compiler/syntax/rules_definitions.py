@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from lark import Token
 
+from compiler.errors import DyadError
 from compiler.syntax import ast
 from compiler.syntax.build_support import (
     Binding, Body, Doc, Metadata, RelationsSection, RuleBase, Suffix, TypeCall, TypePart,
@@ -17,8 +18,10 @@ class DefinitionRules(RuleBase):
     # ------------------------------------------------------------------ file
 
     def start(self, meta, children):
-        usings = tuple(c for c in children if isinstance(c, ast.Using))
-        definitions = tuple(c for c in children if not isinstance(c, ast.Using))
+        # `using A, B` gives one Using per package
+        flat = [u for c in children for u in (c if isinstance(c, tuple) else (c,))]
+        usings = tuple(c for c in flat if isinstance(c, ast.Using))
+        definitions = tuple(c for c in flat if not isinstance(c, ast.Using))
         return ast.File(path=self.filename, usings=usings, definitions=definitions,
                         span=self._span(meta))
 
@@ -29,8 +32,19 @@ class DefinitionRules(RuleBase):
         return Doc(string_content(children[0].value))
 
     def using(self, meta, children):
-        package, *names = children
-        return ast.Using(package, tuple(n.value for n in names), span=self._span(meta))
+        return tuple(ast.Using(package, (), span=self._span(meta), level=level)
+                     for level, package in children)
+
+    def using_names(self, meta, children):
+        (level, package), *names = children
+        return ast.Using(package, tuple(n.value for n in names), span=self._span(meta), level=level)
+
+    def using_path(self, meta, children):
+        """(number of leading dots, the dotted name after them)"""
+        return len(children) - 1, children[-1]
+
+    def using_dot(self, meta, children):
+        return "."
 
     def qual_name(self, meta, children):
         return ".".join(t.value for t in children)
@@ -112,11 +126,17 @@ class DefinitionRules(RuleBase):
 
     def connector_field(self, meta, children):
         doc, rest = split_doc(children)
-        suffixes, (kind, name, type_spec) = split_suffixes(rest, "a connector field")
+        suffixes, (kind, name, type_spec, *value) = split_suffixes(rest, "a connector field")
         if suffixes.condition is not None:
             raise self._error("connector fields cannot be conditional", suffixes.condition_span)
+        if value and kind != "path":
+            raise self._error(f"only a `path` field of a connector has a default value, not a "
+                              f"`{kind}` field", value[0].span,
+                              hint=f"give `{name.value}` its value in the components that use the "
+                                   f"connector (`p = Port({name.value}(guess = 1))`)")
         return ast.ConnectorField(name.value, kind, type_spec, doc=doc, metadata=suffixes.metadata,
-                                  span=self._span(meta), link=suffixes.link)
+                                  span=self._span(meta), link=suffixes.link,
+                                  value=value[0] if value else None)
 
     def field_kind(self, meta, children):
         tok = children[0]
@@ -272,7 +292,14 @@ class DefinitionRules(RuleBase):
 
     def component_array_decl(self, meta, children):
         doc, rest = split_doc(children)
-        suffixes, (name, call, iterators) = split_suffixes(rest, "a component array")
+        suffixes, (name, call, first, *more) = split_suffixes(rest, "a component array")
+        extra = more[0] if more else first if first.condition is not None else None
+        if extra is not None:
+            raise DyadError("an array of components takes one `for` clause without a filter: its "
+                            "elements are numbered by the iterators", extra.span,
+                            hint="declare a conditional component per index instead "
+                                 "(`r_2 = R() if n > 1`), or make the range hold only the indices wanted")
+        iterators = first.iterators
         return ast.ComponentDecl(name.value, call.name, call.modifications, iterators=iterators,
                                  doc=doc, metadata=suffixes.metadata,
                                  condition=suffixes.condition, span=self._span(meta),

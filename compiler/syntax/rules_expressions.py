@@ -67,7 +67,7 @@ class ExpressionRules(RuleBase):
 
     def generator_args(self, meta, children):
         """`sum(x[i] for i in 1:n)`: Julia's generator argument, the comprehension `[x[i] for ...]`."""
-        generator = ast.Comprehension(children[0], children[1], span=self._span(meta), generator=True)
+        generator = comprehension_of(children, self._span(meta), generator=True)
         return CallArgs((generator,), ())
 
     def call_args(self, meta, children):
@@ -130,7 +130,11 @@ class ExpressionRules(RuleBase):
         return ast.ArrayLit(tuple(children), span=self._span(meta))
 
     def comprehension(self, meta, children):
-        return ast.Comprehension(children[0], children[1], span=self._span(meta))
+        return comprehension_of(children, self._span(meta))
+
+    def comprehension_for(self, meta, children):
+        return ast.ForClause(children[0], children[1] if len(children) > 1 else None,
+                             span=self._span(meta))
 
     def matrix(self, meta, children):
         span = self._span(meta)
@@ -188,3 +192,10 @@ class ExpressionRules(RuleBase):
             return None
         raise self._error(f"expected a JSON value, found name `{tok.value}`", self._tspan(tok),
                           hint="JSON strings need double quotes")
+
+
+def comprehension_of(children, span, generator: bool = False) -> ast.Comprehension:
+    """The element expression and its `for` clauses as one Comprehension."""
+    expr, first, *more = children
+    return ast.Comprehension(expr, first.iterators, span=span, generator=generator,
+                             condition=first.condition, more=tuple(more))

@@ -102,19 +102,46 @@ class RelationRules(RuleBase):
         cases = tuple(c.case for c in clauses if isinstance(c, _CaseClause))
         otherwise = next((c.body for c in clauses if isinstance(c, Else)), ())
         closed = any(c.closed for c in clauses)
-        seen: dict[str, ast.SwitchCase] = {}
-        for case in cases:
-            for name in case.names:
-                if name in seen:
-                    raise self._error(f"case `{name}` appears twice in this `switch`", case.span)
-                seen[name] = case
+        self._check_unique_members(cases)
         return ast.Switch(subject, cases, otherwise, span=self._span(meta), doc=doc,
                           closed_cases=closed)
+
+    def _check_unique_members(self, cases) -> None:
+        seen: set[str] = set()
+        for case in cases:
+            for name in case.members:
+                if name in seen:
+                    raise self._error(f"case `{name}` appears twice in this `switch`", case.span)
+                seen.add(name)
 
     def case_clause(self, meta, children):
         closed = isinstance(children[-1], Token) and children[-1].type == "CASE_END"
         _, *names, body = children[:-1] if closed else children
         return _CaseClause(ast.SwitchCase(tuple(names), body, span=self._span(meta)), closed)
+
+    def switch_value(self, meta, children):
+        _, subject, *clauses = children
+        cases = tuple(c for c in clauses if isinstance(c, ast.SwitchCase))
+        otherwise = next((c.body for c in clauses if isinstance(c, Else)), ())
+        self._check_unique_members(cases)
+        return ast.SwitchValue(subject, cases, otherwise, span=self._span(meta))
+
+    def value_case(self, meta, children):
+        names = [c for c in children[1:] if isinstance(c, str) and not isinstance(c, Token)]
+        value = next(c for c in children[1:] if not isinstance(c, (str, Token)))
+        return ast.SwitchCase(tuple(names), (value,), span=self._span(meta))
+
+    def value_else(self, meta, children):
+        value = next(c for c in children if not isinstance(c, Token))
+        return Else((value,))
+
+    def case_label(self, meta, children):
+        """The member as written: `Low`, `Gear.Low`."""
+        return children[0]
+
+    def case_value(self, meta, children):
+        """`Gear.Low()`: the member as a value of its enum, kept as written."""
+        return children[0] + "()"
 
     def relation_list(self, meta, children):
         return tuple(children)

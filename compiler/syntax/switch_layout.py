@@ -26,6 +26,7 @@ class _Block:
     kind: str            # 'block' (anything closed by `end`), 'switch', 'case' (a case or else)
     column: int
     cases_closed: bool = False      # a switch one of whose cases had an `end` of its own
+    value: bool = False             # of a switch value: its cases hold expressions, not relations
 
 _SEPARATORS = {"_NL", "SEMICOLON"}
 
@@ -52,10 +53,13 @@ def _track(tok: Token, tokens: list[Token], index: int, stack: list[_Block]) -> 
     top = stack[-1] if stack else None
     if kind == "SWITCH":
         stack.append(_Block("switch", tok.column))
-    elif kind == "CASE" or (kind == "ELSE" and top is not None and top.kind in ("switch", "case")):
+    elif kind == "SWITCH_VALUE":        # `y = switch g`: its cases are deeper than the line's start
+        stack.append(_Block("switch", _line_start(tokens, index).column, value=True))
+    elif kind == "CASE" or (kind == "ELSE" and top is not None and top.kind in ("switch", "case")
+                            and _starts_statement(tokens, index)):
         if top is not None and top.kind == "case":
             stack.pop()                      # the previous case had no `end` of its own
-        stack.append(_Block("case", tok.column))
+        stack.append(_Block("case", tok.column, value=stack[-1].value if stack else False))
     elif kind == "END" and top is not None:
         if top.kind == "case":
             stack.pop()
@@ -66,7 +70,7 @@ def _track(tok: Token, tokens: list[Token], index: int, stack: list[_Block]) -> 
                 switch.cases_closed = True
                 return Token.new_borrow_pos("CASE_END", tok.value, tok)
         stack.pop()                          # the block (or the switch) this `end` closes
-    elif _opens_block(tok, tokens, index):
+    elif _opens_block(tok, tokens, index) and not (kind == "IF" and top is not None and top.value):
         stack.append(_Block("block", tok.column))
     return tok
 
@@ -93,3 +97,17 @@ def _opens_block(tok: Token, tokens: list[Token], index: int) -> bool:
         return previous is None or previous.type in _STATEMENT_BOUNDARIES \
             or (previous.type == "ELSE" and tok.line > previous.line)
     return False
+
+
+def _line_start(tokens: list[Token], index: int) -> Token:
+    """The first token on the line of tokens[index]."""
+    while index > 0 and tokens[index - 1].line == tokens[index].line \
+            and tokens[index - 1].type not in _SEPARATORS:
+        index -= 1
+    return tokens[index]
+
+
+def _starts_statement(tokens: list[Token], index: int) -> bool:
+    """Is tokens[index] first in its statement? (`else` of a switch is; of `if c then a else b`
+    it follows a value.)"""
+    return index == 0 or tokens[index - 1].type in _SEPARATORS | {"CASE_END", "END"}

@@ -13,6 +13,7 @@ import numpy as np
 
 from compiler.errors import DyadError
 from compiler.model.expressions import EvalScope, Mode, apply_indices, evaluate, is_node_like, \
+    switch_branch, \
     iteration_values
 from compiler.model.instantiate import ParameterInstance, VariableInstance
 from compiler.syntax import ast
@@ -79,6 +80,9 @@ class ExpressionUnits:
             return self.comprehension(expr, scope)
         if kind is ast.Boolean:
             return FREE
+        if kind is ast.SwitchValue:     # the unit of the value the subject selects
+            chosen = switch_branch(expr, scope)
+            return self.of(chosen[0], scope) if chosen else None
         return None                     # strings
 
     def ref(self, ref: ast.Ref, scope: EvalScope) -> Any:
@@ -192,7 +196,8 @@ class ExpressionUnits:
             target = self.target(expr, scope)
             return target is SECONDS or type(target) is VariableInstance
         children = {ast.BinaryOp: lambda e: (e.left, e.right), ast.UnaryOp: lambda e: (e.operand,),
-                    ast.Call: lambda e: e.args, ast.IfExpr: lambda e: (e.condition, e.then, e.otherwise)}
+                    ast.Call: lambda e: e.args, ast.IfExpr: lambda e: (e.condition, e.then, e.otherwise),
+                    ast.SwitchValue: lambda e: tuple(c.body[0] for c in e.cases) + e.otherwise}
         inner = children.get(type(expr))
         return inner is not None and any(self.varies(e, scope) for e in inner(expr))
 
@@ -237,15 +242,16 @@ class ExpressionUnits:
         return None                     # a library or Julia function: its unit is not declared
 
     def comprehension(self, expr: ast.Comprehension, scope: EvalScope) -> Any:
-        try:
-            first = iteration_values(expr.iterators[0].iterable, scope)
-        except DyadError:
-            return None
-        if not first:
-            return FREE
-        inner = scope.bind(**{expr.iterators[0].variable: first[0]})
-        if len(expr.iterators) > 1:
-            return self.comprehension(ast.Comprehension(expr.expr, expr.iterators[1:], expr.span), inner)
+        """The unit of the element at every iterator's first value (all elements share it)."""
+        inner = scope
+        for iterator in (it for clause in expr.clauses for it in clause.iterators):
+            try:
+                first = iteration_values(iterator.iterable, inner)
+            except DyadError:
+                return None
+            if not first:
+                return FREE
+            inner = inner.bind(**{iterator.variable: first[0]})
         return self.of(expr.expr, inner)
 
 

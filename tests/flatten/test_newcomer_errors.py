@@ -384,7 +384,7 @@ def test_parameter_values_must_be_finite_reals(tmp_path, capsys, declaration, wo
 
 
 @pytest.mark.parametrize("declaration", ["parameter time::Real = 1", "variable time::Real"])
-def test_time_is_a_reserved_name(tmp_path, capsys, declaration):
+def test_time_is_not_a_name_of_the_simulated_model_itself(tmp_path, capsys, declaration):
     path = write(tmp_path, "P.dyad", f"""
         component P
           {declaration}
@@ -396,7 +396,7 @@ def test_time_is_a_reserved_name(tmp_path, capsys, declaration):
     code, _, err = run(capsys, "check", str(path))
     assert code == 1
     assert_located(err, path, 2)
-    assert "`time` is a reserved name" in err and "defined twice" not in err
+    assert "`time` cannot be declared by the simulated model itself" in err and "defined twice" not in err
 
 
 def test_model_errors_reach_the_api_as_dyad_errors(lib):
