@@ -1,6 +1,7 @@
 """The C sources of an FMU: the model's functions written by CasADi's CodeGenerator
-(dyfmu_functions.c/.h), the tables of the model (dyfmu_model.h), and dyadc's own FMI 2.0 runtime
-(fmi2_model_exchange.c and what it includes, shipped beside this module).
+(dyfmu_functions.c/.h), the tables of the model (dyfmu_model.h), and dyadc's own runtime shipped
+beside this module: one core (fmu_model.c and what it includes, fmu_numerics.c) and the FMI
+version's functions that wrap it (fmi2_functions.c or fmi3_functions.c).
 
 Every output is dense (CasADi writes only the structural nonzeros of a sparse one), and the
 Jacobians the FMU needs are exact: the algebraic Newton step, the initialization system's, and
@@ -20,9 +21,8 @@ from compiler.linear.elimination import EliminatedSystem
 from compiler.runtime import CompiledModel
 
 FUNCTIONS_NAME = "dyfmu_functions"
-RUNTIME_FILES = ("fmi2_api.h", "fmu_instance.h", "fmu_numerics.c", "fmi2_model_exchange.c", "fmi2_values.inc",
-                 "fmi2_cosimulation.inc")
-COMPILED_FILES = (FUNCTIONS_NAME + ".c", "fmu_numerics.c", "fmi2_model_exchange.c")
+CORE_FILES = ("fmu_instance.h", "fmu_core.h", "fmu_numerics.c", "fmu_model.c", "fmu_values.inc", "fmu_state.inc",
+              "fmu_cosimulation.inc")
 _OPERATORS = {">": 0, ">=": 1, "<": 2, "<=": 3}
 
 
@@ -30,7 +30,13 @@ _OPERATORS = {">": 0, ">=": 1, "<": 2, "<=": 3}
 class CSources:
     """File name -> text, and the names of the files to compile."""
     files: dict[str, str]
-    compiled: tuple[str, ...] = COMPILED_FILES
+    compiled: tuple[str, ...]
+
+
+def runtime_files(fmi: int) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """(the runtime's files, those of them compiled) for FMI version `fmi`."""
+    wrapper = f"fmi{fmi}_functions.c"
+    return CORE_FILES + (f"fmi{fmi}_api.h", wrapper), ("fmu_numerics.c", "fmu_model.c", wrapper)
 
 
 def _dense(function_name: str, inputs: list, outputs: list) -> ca.Function:
@@ -115,11 +121,12 @@ def model_header(model: CompiledModel, layout: FmuLayout, functions: list[ca.Fun
     return "\n".join(lines) + "\n"
 
 
-def fmu_sources(model: CompiledModel, layout: FmuLayout, guid: str) -> CSources:
+def fmu_sources(model: CompiledModel, layout: FmuLayout, guid: str, fmi: int) -> CSources:
     functions = model_functions(model, layout)
     files = generated_functions(functions)
     files["dyfmu_model.h"] = model_header(model, layout, functions, guid)
     here = Path(__file__).resolve().parent
-    for name in RUNTIME_FILES:
+    shipped, compiled = runtime_files(fmi)
+    for name in shipped:
         files[name] = (here / name).read_text(encoding="utf-8")
-    return CSources(files)
+    return CSources(files, (FUNCTIONS_NAME + ".c", *compiled))

@@ -14,15 +14,15 @@ MODELS = str(Path(__file__).resolve().parent.parent / "models")
 
 @pytest.fixture(scope="session")
 def exported(tmp_path_factory):
-    """model name -> its FMU (exported on first use)."""
+    """(model name, kind, FMI version, -p values) -> its FMU (exported on first use, once a session)."""
     folder = tmp_path_factory.mktemp("fmus")
     made: dict[str, Path] = {}
 
-    def fmu(model: str, kind: str = "me", **params: float) -> Path:
-        key = f"{model} {kind}" + "".join(f" {k}={v}" for k, v in sorted(params.items()))
+    def fmu(model: str, kind: str = "me", fmi: int = 2, **params: float) -> Path:
+        key = f"{model} {kind} {fmi}" + "".join(f" {k}={v}" for k, v in sorted(params.items()))
         if key not in made:
             path = folder / f"{model.replace('.', '_')}{len(made)}.fmu"
-            made[key] = api.export_fmu(model, path, lib_dirs=[MODELS], params=params or None, kind=kind)
+            made[key] = api.export_fmu(model, path, lib_dirs=[MODELS], params=params or None, kind=kind, fmi=fmi)
         return made[key]
     return fmu
 
