@@ -51,6 +51,9 @@ def _add_variable(parent, variable: FmuVariable, states: Mapping[str, int]) -> N
         real["start"] = repr(float(variable.start))
     if variable.unit:
         real["unit"] = variable.unit
+    for key, value in (("min", variable.minimum), ("max", variable.maximum)):
+        if value is not None:
+            real[key] = repr(float(value))
     ET.SubElement(element, "Real", real)
 
 

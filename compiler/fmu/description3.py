@@ -22,6 +22,8 @@ def _interface(root, info: ModelInfo) -> None:
                     "canSerializeFMUState": "true", "providesDirectionalDerivatives": "true"}
     if info.kind == "cs":
         capabilities["canHandleVariableCommunicationStepSize"] = "true"
+    else:                                     # fmi3CompletedIntegratorStep checks the declared bounds
+        capabilities["needsCompletedIntegratorStep"] = "true"
     ET.SubElement(root, "CoSimulation" if info.kind == "cs" else "ModelExchange", capabilities)
 
 
@@ -35,6 +37,9 @@ def _add_variable(parent, variable: FmuVariable, references: dict[str, int]) -> 
         element.set("initial", variable.initial)
     if variable.unit:
         element.set("unit", variable.unit)
+    for key, value in (("min", variable.minimum), ("max", variable.maximum)):
+        if value is not None:
+            element.set(key, repr(float(value)))
     if variable.derivative_of:
         element.set("derivative", str(references[variable.derivative_of]))
     if variable.start is not None:

@@ -84,10 +84,10 @@ DYFMI_EXPORT fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c) { return (f
 
 DYFMI_EXPORT fmi2Status fmi2CompletedIntegratorStep(fmi2Component c, fmi2Boolean no_set_prior, fmi2Boolean *enter_event_mode,
                                                     fmi2Boolean *terminate) {
-    (void)c; (void)no_set_prior;
+    (void)no_set_prior;
     *enter_event_mode = fmi2False;
     *terminate = fmi2False;
-    return fmi2OK;
+    return (fmi2Status)dy_completed_integrator_step(C(c));
 }
 
 DYFMI_EXPORT fmi2Status fmi2SetTime(fmi2Component c, fmi2Real time) { return (fmi2Status)dy_set_time(C(c), time); }

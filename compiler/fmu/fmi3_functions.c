@@ -242,10 +242,10 @@ DYFMI_EXPORT fmi3Status fmi3EnterContinuousTimeMode(fmi3Instance c) { return S(d
 
 DYFMI_EXPORT fmi3Status fmi3CompletedIntegratorStep(fmi3Instance c, fmi3Boolean no_set_prior, fmi3Boolean *enter_event_mode,
                                                     fmi3Boolean *terminate) {
-    (void)c; (void)no_set_prior;
+    (void)no_set_prior;
     *enter_event_mode = fmi3False;
     *terminate = fmi3False;
-    return fmi3OK;
+    return (fmi3Status)dy_completed_integrator_step(C(c));
 }
 
 DYFMI_EXPORT fmi3Status fmi3SetTime(fmi3Instance c, fmi3Float64 time) { return S(dy_set_time(C(c), time)); }

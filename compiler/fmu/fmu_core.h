@@ -26,6 +26,10 @@ int dy_no_variables(DyInstance *c, size_t n, const char *type);
 
 /* Event mode: time events and relations settled; the next time event, when there is one. */
 int dy_update_discrete_states(DyInstance *c, int *next_event_defined, double *next_event);
+/* After an integrator step the importer accepted: the declared bounds checked (DY_ERROR, logged,
+   when the model left its domain). Initialization, event updates and Co-Simulation steps check
+   them too. */
+int dy_completed_integrator_step(DyInstance *c);
 int dy_set_time(DyInstance *c, double time);
 int dy_set_states(DyInstance *c, const double x[], size_t n);
 int dy_get_states(DyInstance *c, double x[], size_t n);

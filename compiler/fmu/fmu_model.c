@@ -79,6 +79,30 @@ static int evaluate(DyInstance *c, double *ode, double *y) {
     return 0;
 }
 
+/* The declared min/max of the model's variables at the current point (compiler/runtime/checks.py's
+   indicators, negative outside by more than round-off): DY_OK, or DY_ERROR with the first bound
+   left logged, as `dyadc simulate --strict-bounds` stops a run. */
+static int check_bounds(DyInstance *c) {
+#if DY_NBOUND > 0
+    double rows[DY_NBOUND], y[DY_NY + 1], t = c->t;
+    const double *in[4] = {c->x, c->z, c->p, &t};
+    double *out[1] = {rows};
+    int k;
+    if (evaluate(c, NULL, y) || dy_call(c, DY_BOUNDS, 4, in, 1, out))
+        return dy_fail(c, "the algebraic equations have no solution at these states");
+    for (k = 0; k < DY_NBOUND; k++)
+        if (!(rows[k] >= 0.0)) {
+            char text[400];
+            snprintf(text, sizeof text, "%s = %.6g is outside its declared %s = %g: the model left its domain",
+                     DY_BOUND_NAME[k], y[DY_BOUND_ROW[k]], DY_BOUND_KIND[k] ? "max" : "min", DY_BOUND_VALUE[k]);
+            return dy_fail(c, text);
+        }
+#else
+    (void)c;
+#endif
+    return DY_OK;
+}
+
 /* ---- events ------------------------------------------------------------------------------------ */
 /* The first time event strictly after t (0 when there is none). */
 static int next_time_event(DyInstance *c, double t, double *found) {
@@ -268,7 +292,7 @@ int dy_exit_initialization(DyInstance *c) {
     if (initialize(c)) return dy_fail(c, "initialization failed: the initial conditions are inconsistent or have no "
                                          "solution near the guesses");
     c->mode = c->cosimulation ? DY_STEP : DY_EVENT;
-    return DY_OK;
+    return check_bounds(c);
 }
 
 #include "fmu_values.inc"

@@ -19,6 +19,7 @@ import casadi as ca
 from compiler.fmu.layout import FmuLayout
 from compiler.linear.elimination import EliminatedSystem
 from compiler.runtime import CompiledModel
+from compiler.runtime.checks import bound_indicators
 
 FUNCTIONS_NAME = "dyfmu_functions"
 CORE_FILES = ("fmu_instance.h", "fmu_core.h", "fmu_numerics.c", "fmu_model.c", "fmu_values.inc", "fmu_state.inc",
@@ -62,7 +63,26 @@ def model_functions(model: CompiledModel, layout: FmuLayout) -> list[ca.Function
         functions.append(_dense("dyfmu_events", [x, z, p, t], [model.events(x, z, p, t)]))
     if layout.time_event_count:
         functions.append(_dense("dyfmu_time_events", [p], list(model.time_events(p))))
+    rows, labels = bound_indicators(model, model.outputs(x, z, p, t))
+    if labels:
+        functions.append(_dense("dyfmu_bounds", [x, z, p, t], [rows]))
     return functions
+
+
+def _string_array(name: str, values) -> str:
+    text = ", ".join('"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"' for v in values) or '""'
+    return f"static const char *const {name}[] = {{{text}}};"
+
+
+def bound_tables(model: CompiledModel) -> list[str]:
+    """The declared min/max the FMU checks (compiler/runtime/checks.py's indicators, in their
+    order): each bound's variable, output row, kind (0 min, 1 max) and value."""
+    labels = bound_indicators(model, model.outputs(*model.symbols()))[1]
+    return [f"#define DY_NBOUND {len(labels)}",
+            _string_array("DY_BOUND_NAME", [name for name, _, _ in labels]),
+            _array("int", "DY_BOUND_ROW", [model.output_index(name) for name, _, _ in labels]),
+            _array("int", "DY_BOUND_KIND", [int(key == "max") for _, key, _ in labels]),
+            _array("double", "DY_BOUND_VALUE", [bound for _, _, bound in labels])]
 
 
 def generated_functions(functions: list[ca.Function]) -> dict[str, str]:
@@ -115,6 +135,7 @@ def model_header(model: CompiledModel, layout: FmuLayout, functions: list[ca.Fun
         _array("int", "DY_SETTABLE", layout.settable),
         _array("int", "DY_INPUT_OF_PARAMETER", input_of),
         _array("int", "DY_OUTPUT_OF_ROW", output_of),
+        *bound_tables(model),
         *(f"#define DY_{n[len('dyfmu_'):].upper()} {n}" for n in names),
         "static dy_work DY_WORKS[] = {" + ", ".join(f"(dy_work){n}_work" for n in names) + "};",
     ]

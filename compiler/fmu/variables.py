@@ -42,6 +42,8 @@ class FmuVariable:
     start: float | None = None
     derivative_of: str | None = None     # a derivative's state
     description: str | None = None
+    minimum: float | None = None         # the declared bounds (checked inside the FMU)
+    maximum: float | None = None
 
 
 @dataclass(frozen=True)
@@ -68,11 +70,14 @@ def fmu_variables(model: CompiledModel, layout: FmuLayout, info: ModelInfo) -> l
     """Every variable in value-reference order (each name once)."""
     found: dict[str, FmuVariable] = {}
     outputs = set(layout.output_names)
+    bounds = model.metadata.get("bounds") or {}
 
     def add(name, reference, causality, variability, initial=None, unit=None, **kwargs):
         if name not in found:
+            limits = bounds.get(name, {})
             found[name] = FmuVariable(name, reference, causality, variability, initial, unit,
-                                      description=info.descriptions.get(name) or None, **kwargs)
+                                      description=info.descriptions.get(name) or None, minimum=limits.get("min"),
+                                      maximum=limits.get("max"), **kwargs)
 
     for i, name in enumerate(model.state_names):
         add(name, layout.state_reference(i), "output" if name in outputs else "local", "continuous", "calculated",
