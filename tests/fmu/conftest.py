@@ -5,6 +5,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from compiler import api
@@ -25,6 +26,22 @@ def exported(tmp_path_factory):
             made[key] = api.export_fmu(model, path, lib_dirs=[MODELS], params=params or None, kind=kind, fmi=fmi)
         return made[key]
     return fmu
+
+
+@pytest.fixture(scope="session")
+def dyadc_run():
+    """dyadc's own run of a model on a time grid, made once a session for each (model, stop, grid,
+    tolerance, library folders): the FMI 2.0 and 3.0 tests of a model compare with the same run."""
+    made: dict[tuple, object] = {}
+
+    def run(model: str, stop: float, times, tolerance: float = 1e-10, lib_dirs: tuple[str, ...] = (MODELS,)):
+        times = np.asarray(times, dtype=float)
+        key = (model, stop, times.tobytes(), tolerance, lib_dirs)
+        if key not in made:
+            made[key] = api.simulate(model, stop, lib_dirs=list(lib_dirs), rtol=tolerance, atol=tolerance,
+                                     saveat=times)
+        return made[key]
+    return run
 
 
 @pytest.fixture(scope="session")

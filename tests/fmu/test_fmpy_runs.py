@@ -11,8 +11,6 @@ import pytest
 from fmpy import simulate_fmu
 from fmpy.validation import validate_fmu
 
-from compiler import api
-from tests.fmu.conftest import MODELS
 
 TOLERANCE = 1e-10
 
@@ -32,14 +30,14 @@ def _grid_rows(result, stop: float, points: int):
     ("Fmu.SineSignal", "y", 1.0),             # no states at all
 ])
 @pytest.mark.parametrize("fmi", [2, 3])
-def test_fmpy_validates_and_matches_dyadc(exported, model, variable, stop, fmi):
+def test_fmpy_validates_and_matches_dyadc(exported, dyadc_run, model, variable, stop, fmi):
     fmu = exported(model, fmi=fmi)
     assert validate_fmu(str(fmu)) == []
     ran = simulate_fmu(str(fmu), stop_time=stop, output=[variable], relative_tolerance=TOLERANCE,
                        output_interval=stop / 100)
     rows = _grid_rows(ran, stop, 101)
     assert len(rows) == 101
-    own = api.simulate(model, stop, lib_dirs=[MODELS], rtol=TOLERANCE, atol=TOLERANCE, saveat=rows["time"])
+    own = dyadc_run(model, stop, rows["time"], TOLERANCE)
     scale = np.max(np.abs(own[variable]))
     assert np.max(np.abs(rows[variable] - own[variable])) <= 1e-6 * scale
 
@@ -86,7 +84,7 @@ EXCAVATOR = "MultibodyComponents.PlanarMechanics.examples.excavator.Excavator"
 
 
 @pytest.mark.parametrize("fmi", [2, 3])
-def test_excavator_model_exchange(exported, fmi):
+def test_excavator_model_exchange(exported, dyadc_run, fmi):
     """The excavator's 12 s dig cycle (19 states, 3 algebraic unknowns, time events of its
     reference trajectory) integrated by FMPy's CVode at rtol 1e-9. The FMU's derivatives equal
     dyadc's to round-off (test_fmu_interface.py); the trajectories differ by CVode's error in the
@@ -99,7 +97,7 @@ def test_excavator_model_exchange(exported, fmi):
                        relative_tolerance=1e-9, output_interval=0.12)
     rows = _grid_rows(ran, 12.0, 101)
     assert len(rows) == 101
-    own = api.simulate(EXCAVATOR, 12.0, rtol=1e-10, atol=1e-10, saveat=rows["time"])
+    own = dyadc_run(EXCAVATOR, 12.0, rows["time"], lib_dirs=())
     for name in ("bucket.frame_b.x", "bucket.frame_b.y"):
         assert np.max(np.abs(rows[name] - own[name])) <= 1e-3
         assert abs(rows[name][-1] - own[name][-1]) <= 1e-7
