@@ -175,3 +175,24 @@ def test_fmi_3_time_and_event_indicators_are_variables(exported, tmp_path):
     assert instance.getFloat64([refs["__event_indicator[1]"], refs["time"]]) == [buffer[0], 0.0025]
     instance.terminate()
     instance.freeInstance()
+
+
+def test_fmi_3_refuses_what_it_does_not_provide(exported, tmp_path, capsys):
+    """Each refusal is an error status (or no instance) with a logged message: event mode in
+    Co-Simulation, variables of a type the FMU has none of, adjoint derivatives."""
+    fmu = exported("Fmu.Rectifier", kind="cs", fmi=3)
+    description = read_model_description(str(fmu))
+    refused = FMU3Slave(guid=description.guid, modelIdentifier=description.coSimulation.modelIdentifier,
+                        unzipDirectory=extract(str(fmu), unzipdir=str(tmp_path / "cs")), instanceName="events")
+    with pytest.raises(Exception, match="Failed to instantiate"):
+        refused.instantiate(eventModeUsed=True)
+    assert "event mode in Co-Simulation is not provided (hasEventMode is false)" in capsys.readouterr().out
+    instance, refs = _started(fmu, tmp_path, 3, "cs", "refusals")
+    with pytest.raises(FMICallException):
+        instance.getInt32([refs["vout"]])
+    assert "this FMU has no Int32 variables" in capsys.readouterr().out
+    with pytest.raises(FMICallException):
+        instance.getAdjointDerivative([refs["vout"]], [refs["vout"]], [1.0])
+    assert "adjoint derivatives are not provided" in capsys.readouterr().out
+    instance.terminate()
+    instance.freeInstance()
