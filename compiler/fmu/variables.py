@@ -91,11 +91,11 @@ def fmu_variables(model: CompiledModel, layout: FmuLayout, info: ModelInfo) -> l
     for i, name in enumerate(model.parameter_names):
         reference, unit, start = layout.parameter_reference(model, i), info.units.get(name), layout.parameter_values[i]
         if layout.settable[i] == PARAMETER:
-            add(name, reference, "parameter", "fixed", "exact", unit, start=start)
+            add(name, reference, "parameter", "tunable", "exact", unit, start=start)
         elif layout.settable[i] == INPUT:
             add(name, reference, "input", "continuous", None, unit, start=start)
-        elif not name.startswith("__"):
-            add(name, reference, "calculatedParameter", "fixed", "calculated", unit)
+        elif not name.startswith("__"):       # may follow a tuned parameter
+            add(name, reference, "calculatedParameter", "tunable", "calculated", unit)
     return list(found.values())
 
 

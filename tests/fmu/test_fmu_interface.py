@@ -4,6 +4,7 @@ Jacobians (the one implementation), the FMU state saved and restored, serialized
 another instance; and what modelDescription.xml says."""
 from __future__ import annotations
 
+import math
 from ctypes import c_double
 
 import numpy as np
@@ -18,7 +19,7 @@ from compiler.linear.elimination import EliminatedSystem
 from tests.fmu.conftest import MODELS
 
 
-def _started(fmu, tmp_path, fmi: int = 2, kind: str = "me", name: str = "test"):
+def _started(fmu, tmp_path, fmi: int = 2, kind: str = "me", name: str = "test", tolerance: float | None = None):
     """An instance initialized (and, for Model Exchange, in continuous-time mode), and the value
     references by name."""
     description = read_model_description(str(fmu))
@@ -28,10 +29,10 @@ def _started(fmu, tmp_path, fmi: int = 2, kind: str = "me", name: str = "test"):
                                   unzipDirectory=extract(str(fmu), unzipdir=str(tmp_path / name)), instanceName=name)
     instance.instantiate()
     if fmi == 2:
-        instance.setupExperiment(startTime=0.0)
+        instance.setupExperiment(tolerance=tolerance, startTime=0.0)
         instance.enterInitializationMode()
     else:
-        instance.enterInitializationMode(startTime=0.0)
+        instance.enterInitializationMode(tolerance=tolerance, startTime=0.0)
     instance.exitInitializationMode()
     if kind == "me":
         instance.newDiscreteStates() if fmi == 2 else instance.updateDiscreteStates()
@@ -135,7 +136,7 @@ def test_model_description(exported, fmi):
     description = read_model_description(str(exported("Linear.MassSpringDamper", fmi=fmi, m=4.0)))
     variables = {v.name: v for v in description.modelVariables}
     assert (variables["F"].causality, variables["F"].variability) == ("input", "continuous")
-    assert (variables["m"].causality, variables["m"].variability, variables["m"].start) == ("parameter", "fixed", "4.0")
+    assert (variables["m"].causality, variables["m"].variability, variables["m"].start) == ("parameter", "tunable", "4.0")
     assert variables["mass.m"].causality == "parameter"         # bound to m, settable on its own
     assert variables["F"].description == "Force on the mass (left open: an input of the linearization)"
     assert variables["mass.s"].unit == "m" and variables["mass.v"].unit == "m/s"
@@ -196,3 +197,27 @@ def test_fmi_3_refuses_what_it_does_not_provide(exported, tmp_path, capsys):
     assert "adjoint derivatives are not provided" in capsys.readouterr().out
     instance.terminate()
     instance.freeInstance()
+
+
+@pytest.mark.parametrize("fmi", [2, 3])
+def test_tunable_parameter_changed_between_steps(exported, tmp_path, capsys, fmi):
+    """The RC charge stepped to 0.2 s towards V = 10 V, then V tuned to 5 V: from there the
+    capacitor relaxes to 5 V with the same time constant R C = 0.1 s (closed form). A Model
+    Exchange instance refuses the change in continuous-time mode, with a logged message."""
+    instance, refs = _started(exported("Fmu.RCCharge", kind="cs", fmi=fmi), tmp_path, fmi, "cs", tolerance=1e-10)
+    set_values = instance.setReal if fmi == 2 else instance.setFloat64
+    for k in range(20):
+        instance.doStep(0.01 * k, 0.01)
+    tuned = _values(instance, [refs["vout"]])[0]
+    assert tuned == pytest.approx(10 * (1 - math.exp(-2.0)), rel=1e-6)
+    set_values([refs["V"]], [5.0])
+    for k in range(20, 60):
+        instance.doStep(0.01 * k, 0.01)
+    assert _values(instance, [refs["vout"]])[0] == pytest.approx(5 + (tuned - 5) * math.exp(-4.0), rel=1e-6)
+    instance.terminate()
+    instance.freeInstance()
+    continuous, refs = _started(exported("Fmu.RCCharge", fmi=fmi), tmp_path, fmi, "me", "continuous")
+    with pytest.raises(FMICallException):
+        (continuous.setReal if fmi == 2 else continuous.setFloat64)([refs["V"]], [5.0])
+    assert "a tunable parameter changes in event mode (Model Exchange) or between steps" in capsys.readouterr().out
+    continuous.freeInstance()
