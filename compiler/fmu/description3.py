@@ -19,7 +19,8 @@ INDICATOR_NAME = "__event_indicator[{}]"
 
 def _interface(root, info: ModelInfo) -> None:
     capabilities = {"modelIdentifier": info.identifier, "canGetAndSetFMUState": "true",
-                    "canSerializeFMUState": "true", "providesDirectionalDerivatives": "true"}
+                    "canSerializeFMUState": "true", "providesDirectionalDerivatives": "true",
+                    "providesAdjointDerivatives": "true"}
     if info.kind == "cs":
         capabilities["canHandleVariableCommunicationStepSize"] = "true"
     else:                                     # fmi3CompletedIntegratorStep checks the declared bounds

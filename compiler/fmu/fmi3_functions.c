@@ -1,9 +1,8 @@
 /* The FMI 3.0 functions of a dyadc FMU (Model Exchange and Co-Simulation): each translates its
    arguments for the one core (fmu_core.h), the same core the FMI 2.0 functions call
    (fmi2_functions.c). fmi3Status numbers its statuses as the core's DY_ statuses. The model has
-   Float64 variables only; clocks, Scheduled Execution, event mode in Co-Simulation, early return
-   and adjoint derivatives are not provided (modelDescription.xml says so), and their functions
-   report an error. */
+   Float64 variables only; clocks, Scheduled Execution, event mode in Co-Simulation and early
+   return are not provided (modelDescription.xml says so), and their functions report an error. */
 #include <string.h>
 
 #include "fmi3_api.h"
@@ -179,8 +178,10 @@ DYFMI_EXPORT fmi3Status fmi3GetAdjointDerivative(fmi3Instance c, const fmi3Value
                                                  const fmi3ValueReference knowns[], size_t n_knowns,
                                                  const fmi3Float64 seed[], size_t n_seed,
                                                  fmi3Float64 sensitivity[], size_t n_sensitivity) {
-    (void)unknowns; (void)n_unknowns; (void)knowns; (void)n_knowns; (void)seed; (void)n_seed; (void)sensitivity; (void)n_sensitivity;
-    return S(dy_fail(C(c), "adjoint derivatives are not provided (providesAdjointDerivatives is false)"));
+    if (n_seed != n_unknowns || n_sensitivity != n_knowns)
+        return S(dy_fail(C(c), "fmi3GetAdjointDerivative: every variable is a scalar (one seed per unknown, one "
+                               "sensitivity per known)"));
+    return S(dy_adjoint_derivative(C(c), unknowns, n_unknowns, knowns, n_knowns, seed, sensitivity));
 }
 
 /* ---- clocks and configuration: none ------------------------------------------------------------- */

@@ -42,6 +42,9 @@ size_t dy_event_indicator_count(void);
 /* Seeds on states and inputs, sensitivities of derivatives and outputs (exact, eliminated). */
 int dy_directional_derivative(DyInstance *c, const unsigned int unknown[], size_t n_unknown,
                               const unsigned int known[], size_t n_known, const double seed[], double sensitivity[]);
+/* Seeds on derivatives and outputs, sensitivities of states and inputs (FMI 3.0's adjoint). */
+int dy_adjoint_derivative(DyInstance *c, const unsigned int unknown[], size_t n_unknown,
+                          const unsigned int known[], size_t n_known, const double seed[], double sensitivity[]);
 
 /* The FMU state: a copy of the instance (get reuses *state when it holds one), and as bytes. */
 int dy_get_state(DyInstance *c, void **state);

@@ -48,7 +48,8 @@ def _values(instance, references: list[int]) -> list[float]:
 @pytest.mark.parametrize("fmi", [2, 3])
 def test_derivatives_and_directional_derivatives_at_any_states(exported, tmp_path, fmi):
     """Two bodies with the temperature between their resistances algebraic: at states the FMU did
-    not integrate to, der(x) and A = d der(x) / dx are those of EliminatedSystem (Newton on z)."""
+    not integrate to, der(x) and A = d der(x) / dx are those of EliminatedSystem (Newton on z), and
+    FMI 3.0's adjoint derivatives are seed' A."""
     instance, refs = _started(exported("Fmu.TwoBodies", fmi=fmi), tmp_path, fmi)
     model = api.compile("Fmu.TwoBodies", lib_dirs=[MODELS]).model
     x = np.array([350.0, 310.0])
@@ -64,6 +65,9 @@ def test_derivatives_and_directional_derivatives_at_any_states(exported, tmp_pat
     for j in range(len(x)):
         column = instance.getDirectionalDerivative(rates, [states[j]], [1.0])
         assert column == pytest.approx(found.A[:, j], rel=1e-12)
+    if fmi == 3:                     # the adjoint: seed' A, from the same elimination
+        seed = [0.25, -2.0]
+        assert instance.getAdjointDerivative(rates, states, seed) == pytest.approx(seed @ found.A, rel=1e-12)
     instance.terminate()
     instance.freeInstance()
 
@@ -180,7 +184,7 @@ def test_fmi_3_time_and_event_indicators_are_variables(exported, tmp_path):
 
 def test_fmi_3_refuses_what_it_does_not_provide(exported, tmp_path, capsys):
     """Each refusal is an error status (or no instance) with a logged message: event mode in
-    Co-Simulation, variables of a type the FMU has none of, adjoint derivatives."""
+    Co-Simulation, variables of a type the FMU has none of."""
     fmu = exported("Fmu.Rectifier", kind="cs", fmi=3)
     description = read_model_description(str(fmu))
     refused = FMU3Slave(guid=description.guid, modelIdentifier=description.coSimulation.modelIdentifier,
@@ -192,9 +196,6 @@ def test_fmi_3_refuses_what_it_does_not_provide(exported, tmp_path, capsys):
     with pytest.raises(FMICallException):
         instance.getInt32([refs["vout"]])
     assert "this FMU has no Int32 variables" in capsys.readouterr().out
-    with pytest.raises(FMICallException):
-        instance.getAdjointDerivative([refs["vout"]], [refs["vout"]], [1.0])
-    assert "adjoint derivatives are not provided" in capsys.readouterr().out
     instance.terminate()
     instance.freeInstance()
 
