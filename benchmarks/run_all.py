@@ -85,6 +85,8 @@ def main(argv: list[str]) -> int:
     parser.add_argument("--corpus", type=Path, default=None,
                         help="a folder with ElectricalComponents/dyad and BlockComponents/dyad: the detailed "
                              "op-amp of the issue-32 targets")
+    parser.add_argument("--no-fmu", action="store_true",
+                        help="skip FMPy's runs of the excavator's FMUs (bench_fmu.py, docs/fmu.md)")
     parser.add_argument("--out", default=str(ROOT / "docs"), help="folder for benchmarks.md (PNGs go to <out>/benchmarks/)")
     args = parser.parse_args(argv)
     os.environ.setdefault("OMP_NUM_THREADS", "1")      # scipy/numpy threads would steal the other core
@@ -174,13 +176,22 @@ def main(argv: list[str]) -> int:
         log("== the unit check's cost on the excavator's uncached compile (bench_units.py)")
         import bench_units
         units_section = bench_units.render(bench_units.measure(3 if args.quick else 7))
+    fmu_section = ""
+    if not args.no_fmu:
+        log("== the excavator's FMUs in FMPy beside dyadc's run (bench_fmu.py; its table also goes into fmu.md)")
+        import bench_fmu
+        fmu_section = bench_fmu.render(bench_fmu.measure(repeats=3 if args.quick else 5,
+                                                         evaluations=5000 if args.quick else 20000))
+        from suite.doc_blocks import write_block
+        write_block(out / "fmu.md", fmu_section, bench_fmu.BEGIN, bench_fmu.END, heading="Speed")
+        fmu_section = "## FMU export (bench_fmu.py)\n\n" + fmu_section + "\n"
     targets = section(floor, compile_data, switching, coldstart, cartesian, with_output)
 
     elapsed = time.perf_counter() - began
     text = report.render(info, runs, compile_data, pngs, settings, elapsed, floor, targets)
     native_part = f"\n## {bench_native_targets.HEADING}\n\n{native_section}\n" if native_section else ""
-    (out / "benchmarks.md").write_text(text + ("\n" + units_section if units_section else "") + native_part,
-                                       encoding="utf-8")
+    (out / "benchmarks.md").write_text(text + ("\n" + units_section if units_section else "") + native_part
+                                       + ("\n" + fmu_section if fmu_section else ""), encoding="utf-8")
     log(f"wrote {out / 'benchmarks.md'} in {elapsed / 60:.1f} min")
     return 0
 

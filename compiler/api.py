@@ -65,9 +65,9 @@ def linearize(model_spec: str, *, inputs: Sequence[str] = (), outputs: Sequence[
 def export_fmu(model_spec: str, output: str, *, lib_dirs: Sequence[str] = (),
                params: Mapping[str, float] | None = None, fmi: int = 2, kind: str = "me",
                stop_time: float | None = None, units: str | None = None):
-    """Write `model_spec` as an FMU (FMI 2.0; `kind` "me": Model Exchange, "cs": Co-Simulation)
-    to `output` and return its path: free inputs are its inputs, `params` start values of its
-    parameters (docs/fmu.md)."""
+    """Write `model_spec` as an FMU (`fmi` 2 or 3: FMI 2.0 or 3.0; `kind` "me": Model Exchange,
+    "cs": Co-Simulation) to `output` and return its path: free inputs are its inputs, `params`
+    start values of its parameters (docs/fmu.md)."""
     from compiler.fmu.export import export_fmu as export
     from compiler.units.mode import units_mode
     with units_mode(units):

@@ -1,4 +1,4 @@
-"""`dyadc fmu MODEL --output Model.fmu`: the model as an FMI 2.0 FMU, Model Exchange or
+"""`dyadc fmu MODEL --output Model.fmu`: the model as an FMI 2.0 or 3.0 FMU, Model Exchange or
 Co-Simulation (compiler/fmu/, docs/fmu.md)."""
 from __future__ import annotations
 
@@ -6,7 +6,7 @@ import sys
 
 from compiler.cli.arguments import add_lib_argument, add_params_argument, add_units_argument
 
-FMU_HELP = "export a model as an FMU (FMI 2.0, Model Exchange or Co-Simulation) for other tools"
+FMU_HELP = "export a model as an FMU (FMI 2.0 or 3.0, Model Exchange or Co-Simulation) for other tools"
 
 
 def add_fmu(sub) -> None:
@@ -18,7 +18,7 @@ def add_fmu(sub) -> None:
     add_lib_argument(p)
     add_units_argument(p)
     p.add_argument("-o", "--output", required=True, metavar="FILE.fmu", help="the FMU to write")
-    p.add_argument("--fmi", type=int, default=2, metavar="VERSION", help="the FMI version (2; 3 is not built yet)")
+    p.add_argument("--fmi", type=int, default=2, metavar="VERSION", help="the FMI version: 2 (default) or 3")
     p.add_argument("--kind", default="me", metavar="KIND",
                    help="me: Model Exchange (the importer integrates; default); cs: Co-Simulation (the FMU "
                         "integrates itself, TR-BDF2 at the experiment's tolerance)")

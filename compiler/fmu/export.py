@@ -1,9 +1,10 @@
-"""`dyadc fmu` / `compiler.api.export_fmu`: a model compiled into an FMI 2.0 FMU, Model Exchange
-(the importer integrates) or Co-Simulation (the FMU integrates itself: fmi2_cosimulation.inc).
+"""`dyadc fmu` / `compiler.api.export_fmu`: a model compiled into an FMI 2.0 or 3.0 FMU, Model
+Exchange (the importer integrates) or Co-Simulation (the FMU integrates itself: fmu_cosimulation.inc).
 
 The model is compiled with its free top-level inputs made parameters (the FMU's inputs,
 compiler/linear/inputs.py); its C sources (sources.py) are compiled by gcc into the FMU's binary
-for this platform and zipped with the sources and modelDescription.xml (description.py). A model
+for this platform and zipped with the sources and modelDescription.xml (description.py for FMI
+2.0, description3.py for 3.0). A model
 whose state set switches during a run is refused: the FMU integrates one state set.
 """
 from __future__ import annotations
@@ -17,24 +18,26 @@ from pathlib import Path
 from typing import Callable, Mapping, Sequence
 
 from compiler.errors import DyadError
-from compiler.fmu.description import ModelInfo, model_description
+from compiler.fmu import description, description3
 from compiler.fmu.layout import fmu_layout
 from compiler.fmu.sources import CSources, fmu_sources
+from compiler.fmu.variables import ModelInfo
 from compiler.runtime import ModelInputError
 from compiler.runtime.native_build import find_compiler
 
-FMI_VERSIONS = (2,)
+FMI_VERSIONS = (2, 3)
 KINDS = ("me", "cs")
-PLATFORM = "linux64"
+PLATFORMS = {2: "linux64", 3: "x86_64-linux"}     # the binaries' folder, as each FMI version names it
+DESCRIBERS = {2: description.model_description, 3: description3.model_description}
 FLAGS = ["-O1", "-fPIC", "-shared", "-fvisibility=hidden"]
 COMPILE_TIMEOUT = 600
 
 
 def check_request(fmi: int, kind: str) -> None:
-    """Refuse what is not built: FMI 3.0, kinds other than me and cs."""
+    """Refuse what is not built: FMI versions other than 2.0 and 3.0, kinds other than me and cs."""
     if fmi not in FMI_VERSIONS:
-        raise DyadError(f"--fmi {fmi}: dyadc exports FMI 2.0 only (FMI 3.0 is not built yet)",
-                        hint="leave out --fmi, or give --fmi 2")
+        raise DyadError(f"--fmi {fmi}: dyadc exports FMI 2.0 and 3.0 (FMI {fmi} is not an FMI version it writes)",
+                        hint="give --fmi 2 or --fmi 3")
     if kind not in KINDS:
         raise DyadError(f"--kind {kind}: an FMU is `me` (Model Exchange: the importer integrates) or "
                         f"`cs` (Co-Simulation: the FMU integrates itself)", hint="give --kind me or --kind cs")
@@ -71,8 +74,9 @@ def export_fmu(model_spec: str, output: str | Path, *, lib_dirs: Sequence[str] =
     descriptions.update({p.name: p.description for p in flat.parameters if p.description})
     info = ModelInfo(identifier, guid, f"{model.name}, compiled by dyadc", descriptions,
                      model.metadata.get("units", {}), _tool(), stop_time, kind)
-    sources = fmu_sources(model, layout, guid)
-    _write_fmu(output, identifier, model_description(model, layout, info), sources)
+    sources = fmu_sources(model, layout, guid, fmi)
+    _write_fmu(output, identifier, DESCRIBERS[fmi](model, layout, info, sources.compiled), sources,
+               PLATFORMS[fmi])
     return output
 
 
@@ -131,12 +135,12 @@ def compile_binary(sources: CSources, identifier: str, folder: Path) -> Path:
     return built
 
 
-def _write_fmu(output: Path, identifier: str, description: str, sources: CSources) -> None:
+def _write_fmu(output: Path, identifier: str, description: str, sources: CSources, platform: str) -> None:
     with tempfile.TemporaryDirectory(prefix="dyadc-fmu-") as tmp:
         binary = compile_binary(sources, identifier, Path(tmp))
         output.parent.mkdir(parents=True, exist_ok=True)
         with zipfile.ZipFile(output, "w", zipfile.ZIP_DEFLATED) as fmu:
             fmu.writestr("modelDescription.xml", description)
-            fmu.write(binary, f"binaries/{PLATFORM}/{identifier}.so")
+            fmu.write(binary, f"binaries/{platform}/{identifier}.so")
             for name, text in sorted(sources.files.items()):
                 fmu.writestr(f"sources/{name}", text)

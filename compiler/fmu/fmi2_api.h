@@ -1,6 +1,6 @@
 /* The FMI 2.0 C interface, declared from the published standard (fmi-standard.org) in dyadc's own
-   words: the types and the functions an FMU for Model Exchange exports. Only what
-   fmi2_model_exchange.c needs is here. */
+   words: the types fmi2_functions.c needs for the functions an FMU for Model Exchange and
+   Co-Simulation exports. */
 #ifndef DYADC_FMI2_API_H
 #define DYADC_FMI2_API_H
 

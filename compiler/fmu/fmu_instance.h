@@ -1,20 +1,33 @@
 /* One instance of a dyadc FMU: the model's vectors (states x, algebraic unknowns z, parameters
    p) and the work space of its CasADi-generated functions. The model's sizes and tables come from
    the generated dyfmu_model.h; the numerics (dense LU, Newton on the algebraic equations,
-   Levenberg-Marquardt on the initialization system) are in fmu_numerics.c. */
+   Levenberg-Marquardt on the initialization system) are in fmu_numerics.c. Nothing here names an
+   FMI version: fmi2_functions.c and fmi3_functions.c wrap the one core (fmu_core.h). */
 #ifndef DYADC_FMU_INSTANCE_H
 #define DYADC_FMU_INSTANCE_H
 
-#include "fmi2_api.h"
+#include <stddef.h>
+
+/* Statuses numbered as fmi2Status and fmi3Status both number their first five. */
+enum { DY_OK, DY_WARNING, DY_DISCARD, DY_ERROR, DY_FATAL };
 
 typedef long long dy_int;
 typedef int (*dy_eval)(const double **arg, double **res, dy_int *iw, double *w, int mem);
 typedef int (*dy_work)(dy_int *sz_arg, dy_int *sz_res, dy_int *sz_iw, dy_int *sz_w);
 
-enum { DY_INSTANTIATED, DY_INITIALIZATION, DY_EVENT, DY_CONTINUOUS, DY_TERMINATED };
+/* Where log messages go: `write` is the FMI wrapper's adapter to its importer's callback, which it
+   keeps in `environment` and `function` (their meaning is the wrapper's). */
+typedef struct {
+    void (*write)(const void *environment, void (*function)(void), const char *instance, int status,
+                  const char *category, const char *message);
+    const void *environment;
+    void (*function)(void);
+} DyLogger;
+
+enum { DY_INSTANTIATED, DY_INITIALIZATION, DY_EVENT, DY_CONTINUOUS, DY_STEP, DY_TERMINATED };
 
 typedef struct {
-    const fmi2CallbackFunctions *callbacks;
+    DyLogger logger;
     char *name;
     int logging;
     int mode;
@@ -31,14 +44,11 @@ typedef struct {
     int parameters_fresh;    /* p derived from p_user and mask */
     int next_event_defined;
     double next_event;
-    int cosimulation;        /* instantiated for Co-Simulation: fmi2DoStep integrates (fmi2_cosimulation.inc) */
+    int cosimulation;        /* instantiated for Co-Simulation: the FMU integrates (fmu_cosimulation.inc) */
     double tolerance;        /* the integrator's relative (and absolute) tolerance */
     double step;             /* its last step size */
     void *integrator;        /* its work space, made on the first step */
 } DyInstance;
-
-/* Frees an instance's integrator work space (fmi2_cosimulation.inc). */
-void dy_free_integrator(void *integrator);
 
 /* Evaluate a generated function: arguments and results in order; returns 0 on success. */
 int dy_call(DyInstance *c, dy_eval f, int n_in, const double **in, int n_out, double **out);
@@ -60,6 +70,6 @@ int dy_solve_algebraic(DyInstance *c, dy_eval newton);
    dr / d(x, z)) with `rows` residuals. Returns 0, or -1 when the residuals stay above tolerance. */
 int dy_solve_initial(DyInstance *c, dy_eval init, int rows);
 
-void dy_log(DyInstance *c, fmi2Status status, const char *category, const char *message);
+void dy_log(DyInstance *c, int status, const char *category, const char *message);
 
 #endif

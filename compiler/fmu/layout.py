@@ -2,8 +2,9 @@
 compiled model), its outputs (top-level outputs), the start values of its parameters (the -p
 values applied, not baked in), which parameters an importer may set, and its value references.
 
-Value references follow the C runtime (fmi2_model_exchange.c): the states 0..nx-1, their
-derivatives nx..2nx-1, the rows of the model's output function from 2nx, then its parameter vector.
+Value references follow the C runtime (fmu_model.c): the states 0..nx-1, their derivatives
+nx..2nx-1, the rows of the model's output function from 2nx, its parameter vector, the event
+indicators (FMI 3.0 lists them as variables), then time (FMI 3.0's independent variable).
 """
 from __future__ import annotations
 
@@ -39,6 +40,12 @@ class FmuLayout:
 
     def parameter_reference(self, model: CompiledModel, i: int) -> int:
         return 2 * len(model.state_names) + len(model.output_names) + i
+
+    def indicator_reference(self, model: CompiledModel, k: int) -> int:
+        return self.parameter_reference(model, len(model.parameter_names)) + k
+
+    def time_reference(self, model: CompiledModel) -> int:
+        return self.indicator_reference(model, self.event_count)
 
 
 def fmu_layout(model: CompiledModel, inputs: Sequence[str], outputs: Sequence[str],

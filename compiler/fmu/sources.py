@@ -1,6 +1,7 @@
 """The C sources of an FMU: the model's functions written by CasADi's CodeGenerator
-(dyfmu_functions.c/.h), the tables of the model (dyfmu_model.h), and dyadc's own FMI 2.0 runtime
-(fmi2_model_exchange.c and what it includes, shipped beside this module).
+(dyfmu_functions.c/.h), the tables of the model (dyfmu_model.h), and dyadc's own runtime shipped
+beside this module: one core (fmu_model.c and what it includes, fmu_numerics.c) and the FMI
+version's functions that wrap it (fmi2_functions.c or fmi3_functions.c).
 
 Every output is dense (CasADi writes only the structural nonzeros of a sparse one), and the
 Jacobians the FMU needs are exact: the algebraic Newton step, the initialization system's, and
@@ -18,11 +19,11 @@ import casadi as ca
 from compiler.fmu.layout import FmuLayout
 from compiler.linear.elimination import EliminatedSystem
 from compiler.runtime import CompiledModel
+from compiler.runtime.checks import bound_indicators
 
 FUNCTIONS_NAME = "dyfmu_functions"
-RUNTIME_FILES = ("fmi2_api.h", "fmu_instance.h", "fmu_numerics.c", "fmi2_model_exchange.c", "fmi2_values.inc",
-                 "fmi2_cosimulation.inc")
-COMPILED_FILES = (FUNCTIONS_NAME + ".c", "fmu_numerics.c", "fmi2_model_exchange.c")
+CORE_FILES = ("fmu_instance.h", "fmu_core.h", "fmu_numerics.c", "fmu_model.c", "fmu_values.inc", "fmu_state.inc",
+              "fmu_cosimulation.inc")
 _OPERATORS = {">": 0, ">=": 1, "<": 2, "<=": 3}
 
 
@@ -30,7 +31,13 @@ _OPERATORS = {">": 0, ">=": 1, "<": 2, "<=": 3}
 class CSources:
     """File name -> text, and the names of the files to compile."""
     files: dict[str, str]
-    compiled: tuple[str, ...] = COMPILED_FILES
+    compiled: tuple[str, ...]
+
+
+def runtime_files(fmi: int) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """(the runtime's files, those of them compiled) for FMI version `fmi`."""
+    wrapper = f"fmi{fmi}_functions.c"
+    return CORE_FILES + (f"fmi{fmi}_api.h", wrapper), ("fmu_numerics.c", "fmu_model.c", wrapper)
 
 
 def _dense(function_name: str, inputs: list, outputs: list) -> ca.Function:
@@ -56,7 +63,26 @@ def model_functions(model: CompiledModel, layout: FmuLayout) -> list[ca.Function
         functions.append(_dense("dyfmu_events", [x, z, p, t], [model.events(x, z, p, t)]))
     if layout.time_event_count:
         functions.append(_dense("dyfmu_time_events", [p], list(model.time_events(p))))
+    rows, labels = bound_indicators(model, model.outputs(x, z, p, t))
+    if labels:
+        functions.append(_dense("dyfmu_bounds", [x, z, p, t], [rows]))
     return functions
+
+
+def _string_array(name: str, values) -> str:
+    text = ", ".join('"' + v.replace("\\", "\\\\").replace('"', '\\"') + '"' for v in values) or '""'
+    return f"static const char *const {name}[] = {{{text}}};"
+
+
+def bound_tables(model: CompiledModel) -> list[str]:
+    """The declared min/max the FMU checks (compiler/runtime/checks.py's indicators, in their
+    order): each bound's variable, output row, kind (0 min, 1 max) and value."""
+    labels = bound_indicators(model, model.outputs(*model.symbols()))[1]
+    return [f"#define DY_NBOUND {len(labels)}",
+            _string_array("DY_BOUND_NAME", [name for name, _, _ in labels]),
+            _array("int", "DY_BOUND_ROW", [model.output_index(name) for name, _, _ in labels]),
+            _array("int", "DY_BOUND_KIND", [int(key == "max") for _, key, _ in labels]),
+            _array("double", "DY_BOUND_VALUE", [bound for _, _, bound in labels])]
 
 
 def generated_functions(functions: list[ca.Function]) -> dict[str, str]:
@@ -109,17 +135,19 @@ def model_header(model: CompiledModel, layout: FmuLayout, functions: list[ca.Fun
         _array("int", "DY_SETTABLE", layout.settable),
         _array("int", "DY_INPUT_OF_PARAMETER", input_of),
         _array("int", "DY_OUTPUT_OF_ROW", output_of),
+        *bound_tables(model),
         *(f"#define DY_{n[len('dyfmu_'):].upper()} {n}" for n in names),
         "static dy_work DY_WORKS[] = {" + ", ".join(f"(dy_work){n}_work" for n in names) + "};",
     ]
     return "\n".join(lines) + "\n"
 
 
-def fmu_sources(model: CompiledModel, layout: FmuLayout, guid: str) -> CSources:
+def fmu_sources(model: CompiledModel, layout: FmuLayout, guid: str, fmi: int) -> CSources:
     functions = model_functions(model, layout)
     files = generated_functions(functions)
     files["dyfmu_model.h"] = model_header(model, layout, functions, guid)
     here = Path(__file__).resolve().parent
-    for name in RUNTIME_FILES:
+    shipped, compiled = runtime_files(fmi)
+    for name in shipped:
         files[name] = (here / name).read_text(encoding="utf-8")
-    return CSources(files)
+    return CSources(files, (FUNCTIONS_NAME + ".c", *compiled))

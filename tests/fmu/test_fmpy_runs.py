@@ -1,4 +1,4 @@
-"""FMUs of dyadc validated and simulated by FMPy (another tool): no problems reported, and the
+"""FMUs of dyadc (FMI 2.0 and 3.0) validated and simulated by FMPy (another tool): no problems reported, and the
 trajectories agree with dyadc's own run at the same tolerance (1e-10: both solvers' errors are
 then far below the 1e-6 relative agreement asked; at 1e-8 each is ~1e-7 relative from the exact
 solution of the step heater)."""
@@ -11,8 +11,6 @@ import pytest
 from fmpy import simulate_fmu
 from fmpy.validation import validate_fmu
 
-from compiler import api
-from tests.fmu.conftest import MODELS
 
 TOLERANCE = 1e-10
 
@@ -31,14 +29,15 @@ def _grid_rows(result, stop: float, points: int):
     ("Fmu.TwoBodies", "T_hot", 200.0),        # a thermal model with an algebraic unknown
     ("Fmu.SineSignal", "y", 1.0),             # no states at all
 ])
-def test_fmpy_validates_and_matches_dyadc(exported, model, variable, stop):
-    fmu = exported(model)
+@pytest.mark.parametrize("fmi", [2, 3])
+def test_fmpy_validates_and_matches_dyadc(exported, dyadc_run, model, variable, stop, fmi):
+    fmu = exported(model, fmi=fmi)
     assert validate_fmu(str(fmu)) == []
     ran = simulate_fmu(str(fmu), stop_time=stop, output=[variable], relative_tolerance=TOLERANCE,
                        output_interval=stop / 100)
     rows = _grid_rows(ran, stop, 101)
     assert len(rows) == 101
-    own = api.simulate(model, stop, lib_dirs=[MODELS], rtol=TOLERANCE, atol=TOLERANCE, saveat=rows["time"])
+    own = dyadc_run(model, stop, rows["time"], TOLERANCE)
     scale = np.max(np.abs(own[variable]))
     assert np.max(np.abs(rows[variable] - own[variable])) <= 1e-6 * scale
 
@@ -51,10 +50,11 @@ def test_rectifier_conducts_from_the_start(exported):
     assert ran["vout"][-1] > 4.5
 
 
-def test_mass_spring_driven_through_its_input(exported):
+@pytest.mark.parametrize("fmi", [2, 3])
+def test_mass_spring_driven_through_its_input(exported, fmi):
     """The free input F is an FMU input: a step of F from 0 to 10 N at t = 0.5 s moves the mass
     as the closed-form response of m s'' + d s' + c s = F."""
-    fmu = exported("Linear.MassSpringDamper")
+    fmu = exported("Linear.MassSpringDamper", fmi=fmi)
     assert validate_fmu(str(fmu)) == []
     signal = np.array([(0.0, 0.0), (0.5, 0.0), (0.5, 10.0), (4.0, 10.0)], dtype=[("time", float), ("F", float)])
     ran = simulate_fmu(str(fmu), stop_time=4.0, input=signal, output=["mass.s"], relative_tolerance=TOLERANCE,
@@ -83,20 +83,21 @@ def test_parameter_start_values_are_not_baked_in(exported):
 EXCAVATOR = "MultibodyComponents.PlanarMechanics.examples.excavator.Excavator"
 
 
-def test_excavator_model_exchange(exported):
+@pytest.mark.parametrize("fmi", [2, 3])
+def test_excavator_model_exchange(exported, dyadc_run, fmi):
     """The excavator's 12 s dig cycle (19 states, 3 algebraic unknowns, time events of its
     reference trajectory) integrated by FMPy's CVode at rtol 1e-9. The FMU's derivatives equal
     dyadc's to round-off (test_fmu_interface.py); the trajectories differ by CVode's error in the
     first stiff transient of the hydraulics (measured 4.8e-4 m at t = 0.12 s; it shrinks with
     CVode's tolerance: 3e-2 m at 1e-6), which the controllers then remove: at 12 s the bucket tip
     agrees to 1e-9 m (measured)."""
-    fmu = exported(EXCAVATOR)
+    fmu = exported(EXCAVATOR, fmi=fmi)
     assert validate_fmu(str(fmu)) == []
     ran = simulate_fmu(str(fmu), stop_time=12.0, output=["bucket.frame_b.x", "bucket.frame_b.y"],
                        relative_tolerance=1e-9, output_interval=0.12)
     rows = _grid_rows(ran, 12.0, 101)
     assert len(rows) == 101
-    own = api.simulate(EXCAVATOR, 12.0, rtol=1e-10, atol=1e-10, saveat=rows["time"])
+    own = dyadc_run(EXCAVATOR, 12.0, rows["time"], lib_dirs=())
     for name in ("bucket.frame_b.x", "bucket.frame_b.y"):
         assert np.max(np.abs(rows[name] - own[name])) <= 1e-3
         assert abs(rows[name][-1] - own[name][-1]) <= 1e-7

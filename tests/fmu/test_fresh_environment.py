@@ -6,6 +6,7 @@ import json
 import subprocess
 
 import numpy as np
+import pytest
 
 from compiler import api
 from tests.fmu.conftest import MODELS
@@ -22,8 +23,9 @@ print(json.dumps({"problems": problems, "time": result["time"].tolist(), "vout":
 """
 
 
-def test_rectifier_fmu_in_an_environment_without_dyadc(exported, fresh_python, tmp_path):
-    fmu = exported("Fmu.Rectifier")
+@pytest.mark.parametrize("fmi", [2, 3])
+def test_rectifier_fmu_in_an_environment_without_dyadc(exported, fresh_python, tmp_path, fmi):
+    fmu = exported("Fmu.Rectifier", fmi=fmi)
     done = subprocess.run([str(fresh_python), "-c", SCRIPT, str(fmu)], capture_output=True, text=True,
                           timeout=300, cwd=tmp_path)
     assert done.returncode == 0, done.stderr

@@ -1,19 +1,19 @@
-/* FMI 2.0 Model Exchange for a model compiled by dyadc. The model is der(x) = f(x, z, p, t),
-   0 = g(x, z, p, t), y = h(x, z, p, t) with g regular in z; its CasADi-generated functions and
-   tables come from dyfmu_model.h (written by compiler/fmu/sources.py). The algebraic unknowns z
-   are solved by Newton from their last values whenever x, p or t changed; relations on unknowns
-   are locked between events and set by an event iteration at each event (as dyadc's runtime
-   does, compiler/runtime/relations.py); time-only conditions read an event clock set in the
-   middle of the coming segment between time events (compiler/runtime/segments.py).
-   Value references: states, then their derivatives, then the rows of the output function, then
-   the parameter vector. */
+/* The core of a dyadc FMU, for FMI 2.0 and 3.0 alike (fmu_core.h). The model is
+   der(x) = f(x, z, p, t), 0 = g(x, z, p, t), y = h(x, z, p, t) with g regular in z; its
+   CasADi-generated functions and tables come from dyfmu_model.h (written by
+   compiler/fmu/sources.py). The algebraic unknowns z are solved by Newton from their last values
+   whenever x, p or t changed; relations on unknowns are locked between events and set by an event
+   iteration at each event (as dyadc's runtime does, compiler/runtime/relations.py); time-only
+   conditions read an event clock set in the middle of the coming segment between time events
+   (compiler/runtime/segments.py). Value references: states, their derivatives, the rows of the
+   output function, the parameter vector, the event indicators, then time. */
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "fmu_instance.h"
+#include "fmu_core.h"
 #include "dyfmu_model.h"
 
 #define LIVE 2.0
@@ -22,20 +22,24 @@
 #define VR_OUTPUT (2 * DY_NX)
 #define VR_PARAMETER (2 * DY_NX + DY_NY)
 #define VR_END (2 * DY_NX + DY_NY + DY_NP)
+#define VR_INDICATOR VR_END
+#define VR_TIME (VR_END + DY_NEV)
 #define DY_DEFAULT_TOLERANCE 1e-6
+
+static void free_integrator(void *integrator);     /* fmu_cosimulation.inc */
 
 static double *vec(int n) { return calloc((size_t)(n > 0 ? n : 1), sizeof(double)); }
 
-void dy_log(DyInstance *c, fmi2Status status, const char *category, const char *message) {
-    if (c && c->callbacks && c->callbacks->logger && (c->logging || status >= fmi2Warning))
-        c->callbacks->logger(c->callbacks->componentEnvironment, c->name, status, category, "%s", message);
+void dy_log(DyInstance *c, int status, const char *category, const char *message) {
+    if (c && c->logger.write && (c->logging || status >= DY_WARNING))
+        c->logger.write(c->logger.environment, c->logger.function, c->name, status, category, message);
 }
 
-static fmi2Status fail(DyInstance *c, const char *message) {
+int dy_fail(DyInstance *c, const char *message) {
     char text[512];
     snprintf(text, sizeof text, "%s (t = %.17g)", message, c->t);
-    dy_log(c, fmi2Error, "logStatusError", text);
-    return fmi2Error;
+    dy_log(c, DY_ERROR, "logStatusError", text);
+    return DY_ERROR;
 }
 
 /* ---- the model's vectors ---------------------------------------------------------------------- */
@@ -73,6 +77,30 @@ static int evaluate(DyInstance *c, double *ode, double *y) {
     if (ode) { double *out[2] = {ode, NULL}; if (dy_call(c, DY_DAE, 4, in, 2, out)) return -1; }
     if (y) { double *out[1] = {y}; if (dy_call(c, DY_OUTPUTS, 4, in, 1, out)) return -1; }
     return 0;
+}
+
+/* The declared min/max of the model's variables at the current point (compiler/runtime/checks.py's
+   indicators, negative outside by more than round-off): DY_OK, or DY_ERROR with the first bound
+   left logged, as `dyadc simulate --strict-bounds` stops a run. */
+static int check_bounds(DyInstance *c) {
+#if DY_NBOUND > 0
+    double rows[DY_NBOUND], y[DY_NY + 1], t = c->t;
+    const double *in[4] = {c->x, c->z, c->p, &t};
+    double *out[1] = {rows};
+    int k;
+    if (evaluate(c, NULL, y) || dy_call(c, DY_BOUNDS, 4, in, 1, out))
+        return dy_fail(c, "the algebraic equations have no solution at these states");
+    for (k = 0; k < DY_NBOUND; k++)
+        if (!(rows[k] >= 0.0)) {
+            char text[400];
+            snprintf(text, sizeof text, "%s = %.6g is outside its declared %s = %g: the model left its domain",
+                     DY_BOUND_NAME[k], y[DY_BOUND_ROW[k]], DY_BOUND_KIND[k] ? "max" : "min", DY_BOUND_VALUE[k]);
+            return dy_fail(c, text);
+        }
+#else
+    (void)c;
+#endif
+    return DY_OK;
 }
 
 /* ---- events ------------------------------------------------------------------------------------ */
@@ -190,7 +218,7 @@ static void free_instance(DyInstance *c) {
     free(c->name); free(c->x); free(c->z); free(c->p_user); free(c->mask); free(c->p);
     free(c->residual); free(c->jacobian); free(c->work); free(c->scratch); free(c->pivots);
     free(c->iw); free(c->w); free((void *)c->arg); free(c->res);
-    dy_free_integrator(c->integrator);
+    free_integrator(c->integrator);
     free(c);
 }
 
@@ -228,23 +256,20 @@ static void reset_values(DyInstance *c) {
     c->step = 0.0;                 /* Co-Simulation: the first step size is chosen again */
 }
 
-DYFMI_EXPORT const char *fmi2GetTypesPlatform(void) { return "default"; }
-DYFMI_EXPORT const char *fmi2GetVersion(void) { return "2.0"; }
-
-DYFMI_EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid,
-                                           fmi2String location, const fmi2CallbackFunctions *callbacks,
-                                           fmi2Boolean visible, fmi2Boolean logging) {
+DyInstance *dy_instantiate(const char *name, const char *token, int cosimulation, int logging, DyLogger logger) {
     DyInstance *c = calloc(1, sizeof(DyInstance));
-    (void)location; (void)visible;
     if (!c) return NULL;
-    c->callbacks = callbacks;
-    c->name = strdup(name ? name : "dyadc");
+    c->logger = logger;
+    name = name ? name : "dyadc";
+    c->name = malloc(strlen(name) + 1);
+    if (c->name) memcpy(c->name, name, strlen(name) + 1);
     c->logging = logging;
     c->nx = DY_NX; c->nz = DY_NZ; c->np = DY_NP;
-    c->cosimulation = type == fmi2CoSimulation;
+    c->cosimulation = cosimulation;
     c->tolerance = DY_DEFAULT_TOLERANCE;
-    if (!guid || strcmp(guid, DY_GUID) != 0) {
-        dy_log(c, fmi2Error, "logStatusError", "the GUID does not match this FMU's modelDescription.xml");
+    if (!token || strcmp(token, DY_GUID) != 0) {
+        dy_log(c, DY_ERROR, "logStatusError", "the GUID (instantiation token) does not match this FMU's "
+                                               "modelDescription.xml");
         free_instance(c); return NULL;
     }
     if (allocate_work(c)) { free_instance(c); return NULL; }
@@ -252,38 +277,24 @@ DYFMI_EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2S
     return c;
 }
 
-DYFMI_EXPORT void fmi2FreeInstance(fmi2Component c) { free_instance((DyInstance *)c); }
+void dy_free_instance(DyInstance *c) { free_instance(c); }
+void dy_reset(DyInstance *c) { reset_values(c); }
+int dy_set_mode(DyInstance *c, int mode) { c->mode = mode; return DY_OK; }
 
-DYFMI_EXPORT fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean on, size_t n, const fmi2String cats[]) {
-    (void)n; (void)cats;
-    ((DyInstance *)c)->logging = on;
-    return fmi2OK;
+int dy_setup_experiment(DyInstance *c, double tolerance, double start) {
+    c->t = start;
+    c->values_fresh = 0;
+    if (tolerance > 0) c->tolerance = tolerance;
+    return DY_OK;
 }
 
-DYFMI_EXPORT fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tolerance_defined, fmi2Real tolerance,
-                                            fmi2Real start, fmi2Boolean stop_defined, fmi2Real stop) {
-    DyInstance *instance = (DyInstance *)c;
-    (void)stop_defined; (void)stop;
-    instance->t = start;
-    if (tolerance_defined && tolerance > 0) instance->tolerance = tolerance;
-    return fmi2OK;
+int dy_exit_initialization(DyInstance *c) {
+    if (initialize(c)) return dy_fail(c, "initialization failed: the initial conditions are inconsistent or have no "
+                                         "solution near the guesses");
+    c->mode = c->cosimulation ? DY_STEP : DY_EVENT;
+    return check_bounds(c);
 }
 
-DYFMI_EXPORT fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
-    ((DyInstance *)c)->mode = DY_INITIALIZATION;
-    return fmi2OK;
-}
-
-DYFMI_EXPORT fmi2Status fmi2ExitInitializationMode(fmi2Component component) {
-    DyInstance *c = (DyInstance *)component;
-    if (initialize(c)) return fail(c, "initialization failed: the initial conditions are inconsistent or have no "
-                                      "solution near the guesses");
-    c->mode = DY_EVENT;
-    return fmi2OK;
-}
-
-DYFMI_EXPORT fmi2Status fmi2Terminate(fmi2Component c) { ((DyInstance *)c)->mode = DY_TERMINATED; return fmi2OK; }
-DYFMI_EXPORT fmi2Status fmi2Reset(fmi2Component c) { reset_values((DyInstance *)c); return fmi2OK; }
-
-#include "fmi2_values.inc"
-#include "fmi2_cosimulation.inc"
+#include "fmu_values.inc"
+#include "fmu_state.inc"
+#include "fmu_cosimulation.inc"
