@@ -31,15 +31,22 @@ def suggest_component(library, name: str, package: str, file: ast.File | None) -
             known.update(d.name for d in parsed.definitions if isinstance(d, ast.ComponentDef))
     for candidate in library.candidates(name, package, file):
         for root in library.roots_for(candidate):
-            folder = root.joinpath(*candidate.split(".")[:-1])
-            try:
-                paths = sorted(folder.glob("*.dyad")) if folder.is_dir() else []
-            except OSError:         # a name longer than a file name may be
-                continue
-            for path in paths:
-                known.update(_COMPONENT_HEADER.findall(library.source_text(path.resolve())))
+            for folder in _alias_folders(library, root, candidate.rpartition(".")[0]):
+                try:
+                    paths = sorted(folder.glob("*.dyad")) if folder.is_dir() else []
+                except OSError:         # a name longer than a file name may be
+                    continue
+                for path in paths:
+                    known.update(_COMPONENT_HEADER.findall(library.source_text(path.resolve())))
     match = closest(local, known)
     return f"did you mean `{prefix + '.' if prefix else ''}{match[0]}`?" if match else None
+
+
+def _alias_folders(library, root, package: str) -> list:
+    """The folder of `package` under `root` and those of its subpackages, which its flat paths
+    reach (Library.find_aliased)."""
+    nested = library.nested_subpackages(package) if package else []
+    return [root.joinpath(*name.split(".")) if name else root for name in [package, *nested]]
 
 
 def suggest_type(library, name: str, package: str, file: ast.File | None) -> str | None:
