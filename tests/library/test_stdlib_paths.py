@@ -14,7 +14,7 @@ from compiler.errors import DyadError
 from compiler.model.flatten import flatten_model
 from compiler.model.library import Library
 from compiler.model.parameter_checks import require_parameter_values
-from compiler.syntax import parser
+from compiler.syntax import ast, parser
 
 COMPONENTS = Path(__file__).resolve().parents[2] / "components"
 STANDARD_PACKAGES = ("ElectricalComponents", "RotationalComponents", "TranslationalComponents",
@@ -36,6 +36,9 @@ SPELLINGS = [
     ("TranslationalComponents.ForceSensor", "TranslationalComponents.Sensors.ForceSensor"),
     ("BlockComponents.Gain", "BlockComponents.Math.Gain"),
     ("BlockComponents.LimPID", "BlockComponents.Continuous.LimPID"),
+    ("HydraulicComponents.FixedVolume", "HydraulicComponents.Vessels.FixedVolume"),
+    ("HydraulicComponents.TwoPorts", "HydraulicComponents.Interfaces.TwoPorts"),
+    ("HydraulicComponents.DoubleActingCylinder", "HydraulicComponents.Machines.DoubleActingCylinder"),
 ]
 
 
@@ -67,7 +70,7 @@ def bare_extension_of_own_package(path: Path) -> str | None:
     package (the removed second alias mechanism), or None."""
     (definition, *_) = parser.parse_file(str(path)).definitions
     package = path.relative_to(COMPONENTS).parts[0]
-    if definition.declarations or definition.relations or len(definition.extends) != 1:
+    if not isinstance(definition, ast.ComponentDef) or definition.declarations or definition.relations or len(definition.extends) != 1:
         return None
     base = definition.extends[0].type_name
     same_package = base.split(".")[0] == package or "." not in base
