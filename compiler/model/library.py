@@ -27,7 +27,7 @@ from compiler.model.library_functions import FUNCTION_PLUGIN_FILE, FunctionLooku
 from compiler.model.library_path import BASE_PACKAGE, LIBRARY_PATH_VARIABLE, PROJECT_FILE, Root, \
     check_user_packages, package_provider, project_dependencies, search_path
 from compiler.model.library_suggest import DEFINITION_KEYWORDS, PRIMITIVE_TYPES, \
-    sampled_component_error, suggest_component, suggest_type
+    unsupported_component_error, suggest_component, suggest_type
 from compiler.syntax import ast
 
 __all__ = ["FUNCTION_PLUGIN_FILE", "PRIMITIVE_TYPES", "Library", "Resolved", "qualify"]
@@ -312,8 +312,8 @@ class Library(FunctionLookup):
                 what: str = "type", kinds: tuple[type, ...] = ()) -> Resolved:
         found = self.lookup(name, package, file, kinds)
         if found is None:
-            if what == "component type" and (sampled := sampled_component_error(name, span)):
-                raise sampled
+            if what == "component type" and (refused := unsupported_component_error(name, span)):
+                raise refused
             suggest = suggest_component if what == "component type" else suggest_type
             raise DyadError(f"unknown {what} `{name}`", span, hint=suggest(self, name, package, file))
         return found
