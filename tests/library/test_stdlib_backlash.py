@@ -1,6 +1,9 @@
 """RotationalComponents.Components.ElastoBacklash: an inertia rattling in an undamped backlash
 follows free flight and half sine contacts and keeps its energy; with damping the contact never
-pulls (model tests/models/Stdlib/BacklashRattle.dyad: J = 0.5, c = 200, b = 0.2, w(0) = 1)."""
+pulls (model tests/models/Stdlib/BacklashRattle.dyad: J = 0.5, c = 200, b = 0.2, w(0) = 1).
+TranslationalComponents.Components.ElastoGap: a mass bouncing off a wall through it
+(tests/models/Stdlib/GapBounce.dyad: m = 1, c = 400, gap 0.1 m, v(0) = -1). The friction elements
+that need a stuck/sliding mode are refused at their declaration."""
 from __future__ import annotations
 
 import math
@@ -41,6 +44,21 @@ def test_damped_contact_only_pushes_and_loses_energy(run):
     assert np.all(tau * contact >= 0) and np.all(tau[contact == 0] == 0)
     energy = 0.5 * 0.5 * run["damped_body.w"] ** 2 + 0.5 * 200 * contact ** 2
     assert np.all(np.diff(energy) <= 1e-9) and energy[-1] < 0.2
+
+
+def test_a_mass_bounces_off_an_elastic_gap_and_keeps_its_energy():
+    run = Compiled().run("GapBounce", 0.4, points=401)
+    t, s, v = run.time, run["body.s"], run["body.v"]
+    omega = math.sqrt(400.0)
+    free = t < 0.1 - 1e-3
+    np.testing.assert_allclose(s[free], 0.1 - t[free], atol=1e-7)
+    contact = (t > 0.1 + 1e-3) & (t < 0.1 + math.pi / omega - 1e-3)
+    np.testing.assert_allclose(s[contact], -np.sin(omega * (t[contact] - 0.1)) / omega, atol=1e-6)
+    after = t > 0.1 + math.pi / omega + 1e-3
+    np.testing.assert_allclose(v[after], 1.0, atol=1e-5)
+    np.testing.assert_allclose(run["gap.f"][after], 0.0, atol=0)
+    energy = 0.5 * v ** 2 + 0.5 * 400 * np.minimum(s, 0) ** 2
+    np.testing.assert_allclose(energy, 0.5, rtol=1e-5)
 
 
 @pytest.mark.parametrize("name", ["RotationalComponents.Components.Clutch", "RotationalComponents.Brake",
