@@ -27,6 +27,8 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Iterable, Sequence
 
+from compiler.julia.functions import julia_source_files
+
 KEY_FORMAT = 1
 ABSENT = "absent"
 _COMPILER_FILES = (".py", ".lark", ".json")
@@ -100,11 +102,9 @@ def fingerprint(kind: str, path: str) -> str:
 
 
 def _julia_fingerprint(package_folder: Path) -> str:
-    """The names and bytes of the Julia sources of a package folder: `src/*.jl` beside it when it
-    is a project's `dyad/` folder (the rule of compiler.julia.functions.julia_source_files)."""
-    folder = package_folder.resolve()
-    source = folder.parent / "src"
-    if folder.name != "dyad" or not source.is_dir():
+    """The names and bytes of the Julia sources of a package folder (found by the rule of
+    compiler.julia.functions.julia_source_files)."""
+    files = julia_source_files(package_folder)
+    if not files:
         return ABSENT
-    files = sorted(source.glob("*.jl"))
     return hash_text(*(f"{p.name}:{hashlib.sha256(p.read_bytes()).hexdigest()}" for p in files))

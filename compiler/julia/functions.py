@@ -47,11 +47,10 @@ class UnreadableFunction:
 
 def julia_source_files(package_folder: Path) -> list[Path]:
     """The `.jl` files of the Julia package that a Dyad package folder belongs to: `src/` beside
-    the folder when the folder (or its link target) is the project's `dyad/` folder."""
+    the folder when the folder (or its link target) is a project's `dyad/` folder, else `src/`
+    inside it (a top-level package folder of a library, as dyadc's own HydraulicComponents)."""
     folder = package_folder.resolve()
-    if folder.name != "dyad":
-        return []
-    src = folder.parent / "src"
+    src = folder.parent / "src" if folder.name == "dyad" else folder / "src"
     return sorted(src.glob("*.jl")) if src.is_dir() else []
 
 

@@ -104,8 +104,7 @@ def medium_of(node: Any, field: str, lexical: Any,
         raise DyadError(f"medium `{decl.name}`: dyadc reads a medium given as a constructor call "
                         f"such as `Water(density = 1000)`", decl.span)
     file = instance.resolved.file
-    folder = Path(file.path).parent
-    package = instance.resolved.package or folder.resolve().parent.name.removesuffix(".jl")
+    folder, package = _medium_package(value.function, instance, lexical.library)
     definitions = _definitions(folder, package)
     struct = definitions.structs.get(f"{package}.{value.function.rpartition('.')[2]}")
     if struct is None:
@@ -129,6 +128,19 @@ def medium_of(node: Any, field: str, lexical: Any,
                             f"value", value.span)
         values[name] = evaluate_in(expr, scope)
     return Medium(struct, values, definitions, package)
+
+
+def _medium_package(constructor: str, instance: Any, library: Any) -> tuple[Path, str]:
+    """The folder and name of the top-level package whose Julia sources define a medium's struct:
+    the package a qualified constructor names (`HydraulicComponents.IsothermalCompressible`,
+    from a model of any package), else the declaring file's own top-level package; for a file
+    given by path, the project whose `dyad/` folder holds it."""
+    head = (constructor if "." in constructor else instance.resolved.package or "").split(".")[0]
+    provider = library.provider(head) if head else None
+    if provider is not None and (provider.path / head).is_dir():
+        return provider.path / head, head
+    folder = Path(instance.resolved.file.path).parent
+    return folder, instance.resolved.package or folder.resolve().parent.name.removesuffix(".jl")
 
 
 def _definitions(folder: Path, package: str) -> JuliaDefinitions:

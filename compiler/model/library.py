@@ -27,7 +27,7 @@ from compiler.model.library_functions import FUNCTION_PLUGIN_FILE, FunctionLooku
 from compiler.model.library_path import BASE_PACKAGE, LIBRARY_PATH_VARIABLE, PROJECT_FILE, Root, \
     check_user_packages, package_provider, project_dependencies, search_path
 from compiler.model.library_suggest import DEFINITION_KEYWORDS, PRIMITIVE_TYPES, \
-    sampled_component_error, suggest_component, suggest_type
+    unsupported_component_error, suggest_component, suggest_type
 from compiler.syntax import ast
 
 __all__ = ["FUNCTION_PLUGIN_FILE", "PRIMITIVE_TYPES", "Library", "Resolved", "qualify"]
@@ -71,6 +71,7 @@ class Library(FunctionLookup):
         self._texts: dict[Path, str] = {}
         self._found: dict[str, Resolved | None] = {}
         self._aliased: dict[str, Resolved | None] = {}
+        self._subfolders: dict[str, list[str]] = {}
         self._lookup_cache: dict[tuple, Resolved | None] = {}
         self.type_cache: dict[tuple, object] = {}     # used by compiler.model.instantiate
         self._julia: dict[str, dict] = {}             # package folder -> its Julia functions
@@ -132,6 +133,7 @@ class Library(FunctionLookup):
         self.roots.append(folder)
         self._found.clear()
         self._aliased.clear()
+        self._subfolders.clear()
         self._lookup_cache.clear()
         self._providers.clear()
         self._dependencies.clear()
@@ -260,25 +262,41 @@ class Library(FunctionLookup):
         return (chosen or found or [None])[0]
 
     def find_aliased(self, qualified_name: str) -> Resolved | None:
-        """The definition a flat path `P.X` names when no folder defines it but exactly one direct
-        subpackage of P does (`BlockComponents.LimPID` for `BlockComponents.Continuous.LimPID`,
-        as Dyad's documentation and its published repositories spell the same component)."""
+        """The definition a flat path `P.X` names when no folder defines it but exactly one
+        subpackage of P, at any depth, does (`BlockComponents.LimPID` for
+        `BlockComponents.Continuous.LimPID`, `ElectricalComponents.Resistor` for
+        `ElectricalComponents.Analog.Basic.Resistor`): Dyad's documentation names the standard
+        library by subpackage, its published repositories by the flat path. The one alias rule:
+        the library holds each component once, at its documented path."""
         if qualified_name not in self._aliased:
             defined = self.subpackage_definitions(qualified_name)
             self._aliased[qualified_name] = defined[0] if len(defined) == 1 else None
         return self._aliased[qualified_name]
 
     def subpackage_definitions(self, qualified_name: str) -> list[Resolved]:
-        """The definitions `P.S.X` of the direct subpackages S of P, for `P.X` that no folder of P
-        defines (none for a name at the top level)."""
+        """The definitions `P.S.X` (`P.S.T.X`, ...) of the subpackages of P at any depth, for
+        `P.X` that no folder of P defines (none for a name at the top level)."""
         package, _, name = qualified_name.rpartition(".")
         if not package or self.find(qualified_name) is not None:
             return []
-        found = (self.find(f"{package}.{sub}.{name}") for sub in self.subpackages(package))
+        found = (self.find(f"{sub}.{name}") for sub in self.nested_subpackages(package))
         return [definition for definition in found if definition is not None]
+
+    def nested_subpackages(self, package: str) -> list[str]:
+        """The qualified names of the subpackages of `package` at any depth, parents first."""
+        out: list[str] = []
+        pending = [package]
+        while pending:
+            parent = pending.pop(0)
+            children = [f"{parent}.{sub}" for sub in self.subpackages(parent)]
+            out += children
+            pending += children
+        return out
 
     def subpackages(self, package: str) -> list[str]:
         """The names of the direct subfolders of `package` in the roots that may define it."""
+        if package in self._subfolders:
+            return self._subfolders[package]
         names: set[str] = set()
         for root in self.roots_for(f"{package}.X"):
             folder = root.joinpath(*package.split("."))
@@ -287,14 +305,15 @@ class Library(FunctionLookup):
                              if p.is_dir() and p.name.isidentifier() and not p.name.startswith("_"))
             except OSError:         # no such folder, or a name longer than a file name may be
                 continue
-        return sorted(names)
+        self._subfolders[package] = sorted(names)
+        return self._subfolders[package]
 
     def resolve(self, name: str, package: str, file: ast.File | None, span: Span | None,
                 what: str = "type", kinds: tuple[type, ...] = ()) -> Resolved:
         found = self.lookup(name, package, file, kinds)
         if found is None:
-            if what == "component type" and (sampled := sampled_component_error(name, span)):
-                raise sampled
+            if what == "component type" and (refused := unsupported_component_error(name, span)):
+                raise refused
             suggest = suggest_component if what == "component type" else suggest_type
             raise DyadError(f"unknown {what} `{name}`", span, hint=suggest(self, name, package, file))
         return found

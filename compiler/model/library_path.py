@@ -139,6 +139,12 @@ def _definition_names(folder: Path) -> dict[tuple[str, ...], tuple[Path, int, in
     return found
 
 
+def _spellings(names: dict[tuple[str, ...], tuple[Path, int, int]]) -> set[tuple[str, ...]]:
+    """Each definition key with its flat spelling (`P.S.X` is also `P.X`, the library's alias
+    rule): a user's flat `Position` names the shipped `Sources.Position`."""
+    return set(names) | {key[-1:] for key in names}
+
+
 def check_user_packages(roots: Sequence[Root]) -> None:
     """A note for each user package that replaces a shipped one; a located error for a user folder
     that only adds definitions to a shipped package (a package is found in one folder only)."""
@@ -154,7 +160,7 @@ def check_user_packages(roots: Sequence[Root]) -> None:
         folder = user.path / package
         if not _is_julia_project(folder):
             added = _definition_names(folder)
-            if added and not set(added) & set(_definition_names(shipped_folder / package)):
+            if added and not _spellings(added) & _spellings(_definition_names(shipped_folder / package)):
                 raise _adds_to_shipped_error(package, folder, shipped_folder / package, added)
         warnings.warn(PackageNote(f"note: package `{package}` from {folder} replaces the shipped "
                                   f"one in {shipped_folder / package} (a package is found in one "

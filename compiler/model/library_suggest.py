@@ -15,6 +15,13 @@ _COMPONENT_HEADER = re.compile(r"(?<![\w.])component\s+(\w+)")
 # Dyad's packages of sampled (discrete-time, clocked) components: dyadc has no clocked semantics
 # yet, so a use of one is refused by name rather than reported as an unknown name.
 SAMPLED_PACKAGES = ("DiscreteComponents",)
+# Dyad's friction elements with stuck and sliding modes (Modelica's), which need a discrete state
+# dyadc does not have: refused at their declaration by name, in either spelling.
+STICK_SLIP_ELEMENTS = {
+    "RotationalComponents": ("BearingFriction", "Brake", "Clutch", "OneWayClutch", "Freewheel",
+                             "LossyGear", "Gearbox"),
+    "TranslationalComponents": ("SupportFriction", "Brake", "MassWithStopAndFriction"),
+}
 
 
 def suggest_component(library, name: str, package: str, file: ast.File | None) -> str | None:
@@ -31,15 +38,22 @@ def suggest_component(library, name: str, package: str, file: ast.File | None) -
             known.update(d.name for d in parsed.definitions if isinstance(d, ast.ComponentDef))
     for candidate in library.candidates(name, package, file):
         for root in library.roots_for(candidate):
-            folder = root.joinpath(*candidate.split(".")[:-1])
-            try:
-                paths = sorted(folder.glob("*.dyad")) if folder.is_dir() else []
-            except OSError:         # a name longer than a file name may be
-                continue
-            for path in paths:
-                known.update(_COMPONENT_HEADER.findall(library.source_text(path.resolve())))
+            for folder in _alias_folders(library, root, candidate.rpartition(".")[0]):
+                try:
+                    paths = sorted(folder.glob("*.dyad")) if folder.is_dir() else []
+                except OSError:         # a name longer than a file name may be
+                    continue
+                for path in paths:
+                    known.update(_COMPONENT_HEADER.findall(library.source_text(path.resolve())))
     match = closest(local, known)
     return f"did you mean `{prefix + '.' if prefix else ''}{match[0]}`?" if match else None
+
+
+def _alias_folders(library, root, package: str) -> list:
+    """The folder of `package` under `root` and those of its subpackages, which its flat paths
+    reach (Library.find_aliased)."""
+    nested = library.nested_subpackages(package) if package else []
+    return [root.joinpath(*name.split(".")) if name else root for name in [package, *nested]]
 
 
 def suggest_type(library, name: str, package: str, file: ast.File | None) -> str | None:
@@ -73,11 +87,21 @@ def ambiguous_alias_hint(library, name: str, package: str, file: ast.File | None
     return None
 
 
-def sampled_component_error(name: str, span: Span | None) -> DyadError | None:
-    """The refusal of a component of one of Dyad's sampled packages, or None for another name."""
+def unsupported_component_error(name: str, span: Span | None) -> DyadError | None:
+    """The refusal of a component of Dyad's standard library that needs a feature dyadc lacks (a
+    sampled package's clocked semantics, a friction element's stuck/sliding mode), or None."""
     package = name.split(".", 1)[0]
-    if package not in SAMPLED_PACKAGES or "." not in name:
+    if "." not in name:
         return None
-    return DyadError(f"`{name}` is a sampled (discrete-time) component of Dyad's `{package}`; dyadc "
-                     f"does not simulate clocked (sampled) components yet", span,
-                     hint="model the controller or filter in continuous time (BlockComponents.Continuous)")
+    if package in SAMPLED_PACKAGES:
+        return DyadError(f"`{name}` is a sampled (discrete-time) component of Dyad's `{package}`; "
+                         f"dyadc does not simulate clocked (sampled) components yet", span,
+                         hint="model the controller or filter in continuous time (BlockComponents.Continuous)")
+    element = name.rsplit(".", 1)[1]
+    if element in STICK_SLIP_ELEMENTS.get(package, ()):
+        return DyadError(f"`{name}` is a Coulomb friction element of Dyad's `{package}`: it switches "
+                         f"between stuck and sliding, a discrete mode that dyadc cannot hold yet "
+                         f"(no discrete states)", span,
+                         hint="model the friction as a smooth law of the slip speed (a Damper, or "
+                              "your own component with tanh(w / w_small))")
+    return None

@@ -108,7 +108,9 @@ def test_the_wheel_holds_every_package_and_the_whole_library(installed):
              for p in (ROOT / "components").rglob("*.dyad")}
     assert trees and not trees - names, f"parsed trees missing from the wheel: {sorted(trees - names)[:3]}"
     assert "compiler/syntax/grammar.lark" in names
-    library = sorted(str(p.relative_to(ROOT / "components")) for p in (ROOT / "components").rglob("*.dyad"))
+    library = sorted(str(p.relative_to(ROOT / "components")) for pattern in ("*.dyad", "*.jl")
+                     for p in (ROOT / "components").rglob(pattern))
+    assert "HydraulicComponents/src/media.jl" in library        # the media's Julia sources
     missing = [p for p in library if f"compiler/components/{p}" not in names]
     assert library and not missing, f"library files missing from the wheel: {missing}"
     assert not any(n.startswith(("tests/", "components/")) for n in names)
