@@ -28,8 +28,6 @@ def why_not_native(model: CompiledModel, options: Mapping, watch: Watch | None) 
     if model.native_library is None:
         # (so a model that calls Python functions, which has no C code, stays on CasADi's IDAS)
         return "the model has no C library (it is on CasADi's VM: --codegen vm, or no C compiler)"
-    if any(int(level.get("rows", 1)) > 1 for level in model.state_sets):
-        return "a state set chosen among several rows (its switch is decided at the point, not by a root)"
     unhonoured = unhonoured_options(options)
     if unhonoured:
         return f"IDAS options it does not take: {', '.join(unhonoured)}"

@@ -10,11 +10,13 @@ from typing import Mapping
 import numpy as np
 
 from compiler.runtime.checks import RUNAWAY_LIMIT, check_divergence
-from compiler.runtime.crossings import root_directions
+from compiler.runtime.crossings import proposing_rows, root_directions
 from compiler.runtime.errors import SimulationFailed
 from compiler.runtime.idas import idas_reason
 from compiler.runtime.integrator import FAILED, REACHED, Call, Stop, Tally
 from compiler.runtime.model import CompiledModel
+from compiler.runtime.state_sets import degraded_level
+from compiler.runtime.switching import all_outputs
 from compiler.runtime.watches import Watch
 
 from . import library
@@ -47,11 +49,15 @@ class NativeIdas:
         atol = np.asarray(options.get("abstolv", [options.get("abstol", 1e-8)] * (nx + nz)), dtype=float)
         directions = root_directions(watch) if watch is not None else np.zeros(0, dtype=int)
         sides = zero_sides(watch) if watch is not None else np.zeros(0, dtype=int)
+        proposes = np.zeros(nrows, dtype=int)
+        proposes[proposing_rows(model, watch) if watch is not None else []] = 1
+        self.level_rows = {what: i for i, (kind, what) in enumerate(watch.labels if watch else ())
+                           if kind == "state set"}
         flag = self.driver.setup(float(options.get("reltol", 1e-6)), atol,
                                  bool(options.get("suppress_algebraic", False)),
                                  float(options.get("max_step_size", 0.0)),
                                  int(options.get("max_multistep_order", 0)), directions, sides,
-                                 watch_atol)
+                                 proposes, watch_atol)
         if flag:
             raise RuntimeError(f"IDAS set-up failed: {_flag_name(flag)} ({self.driver.message()})")
         self.max_steps = int(options.get("max_num_steps", 100000))
@@ -69,10 +75,22 @@ class NativeIdas:
             self.counted[:] = 0
             if flag:
                 return self._failed(call, flag, call.t0)
-        flag, k, xs, zs, t, x, z, row, direction = self.driver.advance(
-            call.reach, call.outputs, RUNAWAY_LIMIT * call.scale, self.max_steps)
+        samples = []
+        while True:
+            done = sum(len(times) for times, _, _ in samples)
+            flag, k, xs, zs, t, x, z, row, direction = self.driver.advance(
+                call.reach, call.outputs[done:], RUNAWAY_LIMIT * call.scale, self.max_steps)
+            samples.append((call.outputs[done:done + k], xs, zs))
+            if flag != library.PROPOSED:
+                break
+            # a multi-row level proposes a switch (its indicator is not positive): taken where its
+            # pivot has degraded at this point, else IDAS steps on with its history
+            level = degraded_level(self.model.state_sets, all_outputs(self.model, x, z, call.p, t))
+            if level in self.level_rows:
+                self._tally()
+                self.at = None
+                return Stop("state set", t, x, z, samples, self.level_rows[level], level)
         self._tally()
-        samples = [(call.outputs[:k], xs, zs)]
         if flag == library.REACHED:
             self.at = (call.reach, x, z, call.p, active)
             return Stop(REACHED, call.reach, x, z, samples)
