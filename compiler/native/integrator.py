@@ -39,6 +39,7 @@ class NativeIdas:
     """Integrator on the native driver for one model (its C library) and one set of options."""
     locates_crossings = True
     name = "native"
+    why = None
 
     def __init__(self, model: CompiledModel, options: Mapping, watch: Watch | None, tally: Tally,
                  watch_atol: float):
