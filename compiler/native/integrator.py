@@ -5,6 +5,7 @@ event that moves the event clock); `tstop` at the call's reach; the watched rows
 own root finding, with direction; the outputs by dense output; the statistics read from IDAS."""
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Mapping
 
 import numpy as np
@@ -28,6 +29,12 @@ HONOURED = {"reltol", "abstol", "abstolv", "max_num_steps", "suppress_algebraic"
             "max_multistep_order", "step0"}
 NOT_APPLICABLE = {"calc_ic", "init_xdot", "disable_internal_warnings", "show_eval_warnings",
                   "linear_solver"}
+
+
+# how far of the way to a failure a state-set model's call is repeated (_failed); to where IDAS
+# failed, the repeated call (with tstop there) failed too (the Test Set's transistor amplifier
+# written with its diode currents, tests/structure/test_models.py)
+RETRY_REACH = 0.9
 
 
 def unhonoured_options(options: Mapping) -> list[str]:
@@ -126,7 +133,12 @@ class NativeIdas:
         reason = idas_reason(f'returned "{_flag_name(flag)}"', said)
         failure = SimulationFailed(f"simulation of {self.model.name} failed at t = {t:.10g}: {reason}",
                                    float(t), reason)
-        return Stop(FAILED, call.t0, call.x0, call.z0, failure=failure)
+        # a state-set model: the call again, cut short of the failure (RETRY_REACH of the way),
+        # where the run looks for the state set pivoting prefers before going into the failure
+        # again (stops.on_reached), as CasADi's IDAS runs do from the check before a failure
+        retry = replace(call, reach=call.t0 + RETRY_REACH * (t - call.t0), retry=True) \
+            if self.model.state_sets and not call.retry and call.t0 < t <= call.reach else None
+        return Stop(FAILED, call.t0, call.x0, call.z0, failure=failure, retry=retry)
 
 
 # a relation's operator in its event label (str of the sympy relational, compiler/lower/events.py)
