@@ -43,7 +43,9 @@ def simulate_compiled(compilation: Compilation | CachedCompilation, stop: float,
     # a model switches among its own variants, or those made from its universal system
     # (runtime/universal.py: the same in-process, from the cache, in generated code and in sweep workers)
     from compiler.run_checks import checked_run       # missing parameter values, singular start
-    with checked_run(compilation, params, start), runtime_errors(compilation.reduced, compilation.flat):
+    # (a failure's diagnosis repeats the run towards it on the same model and integrator)
+    with checked_run(compilation, params, start, (model, options.integrator)), \
+            runtime_errors(compilation.reduced, compilation.flat):
         result = runtime.simulate(model, options=options)
     return _with_compile_times(result, compilation.timings, model)
 
