@@ -35,18 +35,22 @@ def compile(model_spec: str, lib_dirs: Sequence[str] = (), *,  # noqa: A001 - th
 def simulate(model_spec: str, stop: float, *, lib_dirs: Sequence[str] = (), start: float = 0.0,
              rtol: float = 1e-6, atol: float = 1e-6, points: int = 501, saveat=None,
              params: Mapping[str, float] | None = None, progress: bool | None = None,
-             cache: bool = False, units: str | None = None, codegen: str | None = None) -> runtime.Result:
+             cache: bool = False, units: str | None = None, codegen: str | None = None,
+             integrator: str | None = None) -> runtime.Result:
     """Compile and run `model_spec`. `cache=True`: through the compilation cache, as
     `dyadc simulate` does (docs/cache.md). `units`: "error" (default), "warn" or "off", as
     `--units` (a warning is a compiler.units.mode.UnitWarning). `codegen`: "c" or "vm", as
     `--codegen`; default C where a C compiler is present, its libraries in the C library cache
-    (content keyed) with or without `cache`; the choice is `result.stats["codegen"]`."""
+    (content keyed) with or without `cache`; the choice is `result.stats["codegen"]`.
+    `integrator`: "native" or "casadi", as `--integrator`; default the native IDAS driver where it
+    can run the model ($DYADC_INTEGRATOR may say otherwise); the choice is
+    `result.stats["integrator"]`, and why not the native one `result.stats["integrator_why"]`."""
     from compiler.pipeline import compile_or_load
     from compiler.units.mode import units_mode
     with units_mode(units):
         compilation = compile_or_load(model_spec, lib_dirs, cache=cache, for_runs=True, codegen=codegen)
     return simulate_compiled(compilation, stop, start=start, rtol=rtol, atol=atol, points=points,
-                             saveat=saveat, params=params, progress=progress)
+                             saveat=saveat, params=params, progress=progress, integrator=integrator)
 
 
 def linearize(model_spec: str, *, inputs: Sequence[str] = (), outputs: Sequence[str] = (),

@@ -6,6 +6,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Mapping, Sequence
 
 from compiler import runtime
+from compiler.native.choice import integrator_maker
 from compiler.simulate import runtime_errors, translate_runtime_error
 
 if TYPE_CHECKING:
@@ -24,8 +25,10 @@ def simulate_compiled(compilation: Compilation | CachedCompilation, stop: float,
     CasADi's IDAS interface, e.g. {"suppress_algebraic": False} to keep the algebraic unknowns in
     the error test (default: suppressed, see compiler/runtime/idas.py). `bounds`: a declared
     min/max the run leaves gives a BoundWarning and the run goes on ("warn"), or stops it with a
-    located error ("error"). `integrator`: what makes the run's integrators (SimulationOptions;
-    compiler.native.make_integrator for the native IDAS driver). The model runs on the code chosen
+    located error ("error"). `integrator`: "native", "casadi", a maker of integrators
+    (SimulationOptions), or None: $DYADC_INTEGRATOR, else the native IDAS driver where it can run
+    the model and CasADi's IDAS where not, reported as `result.stats["integrator"]` and
+    `["integrator_why"]` (compiler/native/choice.py). The model runs on the code chosen
     for it (compiler/cache/native.py: compiled C where a C compiler is present, built now if need
     be; `codegen` "c" or "vm" asks for one), reported as `result.stats["codegen"]`. A compilation from the
     cache runs its model alone; where a located error needs the sources (a parameter without a
@@ -33,14 +36,16 @@ def simulate_compiled(compilation: Compilation | CachedCompilation, stop: float,
     arguments = dict(start=start, rtol=rtol, atol=atol, points=points, saveat=saveat, params=params,
                      progress=progress, integrator_options=integrator_options, max_step=max_step,
                      max_steps=max_steps, signals=signals, bounds=bounds, integrator=integrator)
-    options = runtime.SimulationOptions(stop=stop, **arguments)
+    options = runtime.SimulationOptions(stop=stop, **{**arguments, "integrator": integrator_maker(integrator)})
     model = model_for_runs(compilation, codegen)
     if not hasattr(compilation, "flat"):
         return _simulate_cached(compilation, model, options, stop, arguments)
     # a model switches among its own variants, or those made from its universal system
     # (runtime/universal.py: the same in-process, from the cache, in generated code and in sweep workers)
     from compiler.run_checks import checked_run       # missing parameter values, singular start
-    with checked_run(compilation, params, start), runtime_errors(compilation.reduced, compilation.flat):
+    # (a failure's diagnosis repeats the run towards it on the same model and integrator)
+    with checked_run(compilation, params, start, (model, options.integrator)), \
+            runtime_errors(compilation.reduced, compilation.flat):
         result = runtime.simulate(model, options=options)
     return _with_compile_times(result, compilation.timings, model)
 

@@ -18,7 +18,7 @@ from compiler.structure.diagnostics import parameter_singularity_error
 
 
 @contextmanager
-def checked_run(compilation, params: Mapping | None, start: float) -> Iterator[None]:
+def checked_run(compilation, params: Mapping | None, start: float, run=None) -> Iterator[None]:
     require_tunable_overrides(compilation.flat, params)
     require_parameter_values(compilation.flat, {p.name for p in compilation.reduced.parameters},
                              params)
@@ -35,7 +35,7 @@ def checked_run(compilation, params: Mapping | None, start: float) -> Iterator[N
                 values = run_parameter_values(compilation, params)
             except (TypeError, ValueError):
                 values = {}
-            raise diagnose(err, compilation, values, start) from None
+            raise diagnose(err, compilation, values, start, run) from None
         if explained is None:
             raise
         explained.notes.append(Note(f"the solver reported: {err.message}"))

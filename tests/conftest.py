@@ -33,15 +33,25 @@ if os.environ.get(SESSION_C_CACHE) is None:
     atexit.register(shutil.rmtree, _c_folder, True)
 
 
-@pytest.fixture(scope="module", params=["c", "vm"])
+# the integrator each code runs on in `each_codegen`: the default path, and the fallback
+INTEGRATOR_OF = {"c": "native", "vm": "casadi"}
+
+
+@pytest.fixture(scope="module", params=["c", "vm"], ids=["c+native", "vm+casadi"])
 def each_codegen(request):
-    """Run on compiled C (the default path) and again on CasADi's virtual machine (the path where no
-    C compiler exists): DYADC_CODEGEN set for the module's tests, and for the module-scoped fixtures
-    that take this one. A representative set uses it (events, state sets, the golden excavator, the
-    Test Set problems); every other numerical test runs on the default path alone."""
+    """Run on compiled C with the native IDAS driver (the default path) and again on CasADi's
+    virtual machine with CasADi's IDAS (the fallback where no C compiler, or no driver library,
+    exists): DYADC_CODEGEN and DYADC_INTEGRATOR set for the module's tests, and for the
+    module-scoped fixtures that take this one. A representative set uses it (events, state sets,
+    the golden excavator, the Test Set problems); every other numerical test runs on the default
+    path alone. The value is the code ("c", "vm"); INTEGRATOR_OF names its integrator."""
     from compiler.lower.ccodegen import find_compiler
+    from compiler.native import INTEGRATOR_VARIABLE, library
     if request.param == "c" and find_compiler() is None:
         pytest.skip("no C compiler")
+    if request.param == "c" and library.driver_library()[0] is None:
+        pytest.skip("native IDAS driver not built (make install builds it)")
     with pytest.MonkeyPatch.context() as patch:
         patch.setenv(CODEGEN_VARIABLE, request.param)
+        patch.setenv(INTEGRATOR_VARIABLE, INTEGRATOR_OF[request.param])
         yield request.param

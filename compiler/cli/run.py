@@ -41,7 +41,7 @@ def run_analysis(args: argparse.Namespace) -> int:
     from compiler.analysis.transient import FIELDS, find_analysis, read_transient
     from compiler.api import simulate_compiled
     from compiler.cli.outputs import check_simulate_outputs, listed, write_result
-    from compiler.cli.simulate import code_named
+    from compiler.cli.simulate import code_named, integrator_named
     from compiler.errors import DyadError
     from compiler.model.flatten import flatten_resolved
     from compiler.model.library import Library
@@ -90,7 +90,8 @@ def run_analysis(args: argparse.Namespace) -> int:
     stats = result.stats
     written = listed(paths)
     print(f"ran {resolved.definition.name} ({run.model_name} from {run.start:g} to {run.stop:g} s, "
-          f"reltol {run.reltol:g}, abstol {run.abstol:g}): {stats.get('steps')} steps, compile "
+          f"reltol {run.reltol:g}, abstol {run.abstol:g}) {integrator_named(stats)}: "
+          f"{stats.get('steps')} steps, compile "
           f"{stats.get('compile_time', 0):.2f} s, run {stats.get('run_time', 0):.2f} s "
           f"{code_named(stats)}; wrote "
           f"{written}", file=sys.stderr)

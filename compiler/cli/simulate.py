@@ -36,9 +36,10 @@ def add_simulate(sub) -> None:
                    help="the code the model's functions run on: c (compiled with gcc before the first "
                         "run, kept in the cache) or vm (CasADi's virtual machine); default: c where a C "
                         "compiler is present ($DYADC_CODEGEN may say otherwise)")
-    p.add_argument("--integrator", choices=["casadi", "native"], default="casadi",
-                   help="IDAS through CasADi (default), or the native IDAS driver built by `make "
-                        "install` (needs the model on C; otherwise CasADi's, with a warning)")
+    p.add_argument("--integrator", choices=["casadi", "native"],
+                   help="native: the IDAS driver built by `make install` (needs the model in C; "
+                        "otherwise CasADi's, with a warning), or casadi: IDAS through CasADi; default: "
+                        "native where it can run the model ($DYADC_INTEGRATOR may say otherwise)")
     p.add_argument("--no-cache", action="store_true",
                    help="compile from source and store nothing (docs/cache.md; or DYADC_CACHE_DIR=off)")
     p.add_argument("--keep-partial", action="store_true",
@@ -91,7 +92,7 @@ def run_simulate(args) -> int:
                                    atol=args.atol, points=args.points,
                                    saveat=None if saveat is None else saveat.grid(), params=params,
                                    bounds="error" if args.strict_bounds else "warn",
-                                   integrator=_integrator(args.integrator))
+                                   integrator=args.integrator)
     except SimulationError as failure:
         if args.keep_partial and args.output and failure.partial is not None:
             partial = _partial_path(args.output)
@@ -102,7 +103,8 @@ def run_simulate(args) -> int:
                            args.events)
     stats = result.stats
     events = len(result.events)
-    print(f"simulated {compilation.model.name} from {args.start:g} to {args.stop:g} s: "
+    print(f"simulated {compilation.model.name} from {args.start:g} to {args.stop:g} s "
+          f"{integrator_named(stats)}: "
           f"{stats.get('steps')} steps, {events} event{'s' if events != 1 else ''}, compile "
           f"{stats.get('compile_time', 0):.2f} s, run {stats.get('run_time', 0):.2f} s "
           f"{code_named(stats)}"
@@ -119,12 +121,12 @@ def code_named(stats: dict) -> str:
     return "on the VM" + (f" ({stats['codegen_why']})" if stats.get("codegen_why") else "")
 
 
-def _integrator(name: str):
-    """What makes the run's integrators for --integrator NAME (None: the runtime's default)."""
-    if name == "native":
-        from compiler.native import make_integrator
-        return make_integrator
-    return None
+def integrator_named(stats: dict) -> str:
+    """Which IDAS the summary line says ran: "on native IDAS", "on CasADi's IDAS" (and why, where
+    the native driver was the first choice), or both where a run's state sets took both."""
+    names = {"native": "native IDAS", "casadi": "CasADi's IDAS"}
+    ran = " and ".join(names.get(n, n) for n in str(stats.get("integrator", "casadi")).split(", "))
+    return f"on {ran}" + (f" ({stats['integrator_why']})" if stats.get("integrator_why") else "")
 
 
 def _partial_path(output: str) -> str:

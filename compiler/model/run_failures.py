@@ -45,10 +45,12 @@ class _Candidate:
 
 
 def diagnose(error: SimulationError, compilation, parameter_values: Mapping[str, float],
-             start: float) -> SimulationError:
+             start: float, run=None) -> SimulationError:
     """`error` with its cause in words and its location, when a domain edge or a blow-up explains
-    it; else `error` itself."""
-    points = _points(error, compilation, parameter_values, start)
+    it; else `error` itself. `run`: (model, integrator maker) of the failed run, which the run
+    towards the failure repeats (another integrator fails elsewhere); default the compilation's
+    model on the runtime's own integrator."""
+    points = _points(error, compilation, parameter_values, start, run)
     if points is None:
         return error
     times, env = points
@@ -114,14 +116,14 @@ def _text(expr: sympy.Expr) -> str:
 # ------------------------------------------------------------------------ where the run was
 
 def _points(error: SimulationError, compilation, parameter_values: Mapping[str, float],
-            start: float) -> tuple[np.ndarray, dict[str, np.ndarray]] | None:
+            start: float, run=None) -> tuple[np.ndarray, dict[str, np.ndarray]] | None:
     """Times and name -> values there: a run again from the start to just before the failure time,
     with output times crowding towards it (IDAS fills the partial result only at the end of a
     segment, so it may hold nothing near the failure), or the start point for a failure there."""
     model = compilation.model
     t_fail = error.time_reached
     if t_fail is not None and t_fail > start:
-        found = _run_towards(model, parameter_values, start, t_fail)
+        found = _run_towards(*(run or (model, None)), parameter_values, start, t_fail)
         if found is None:
             return None
     else:
@@ -146,7 +148,7 @@ def _points(error: SimulationError, compilation, parameter_values: Mapping[str, 
     return times, values
 
 
-def _run_towards(model, parameter_values: Mapping[str, float], start: float, t_fail: float):
+def _run_towards(model, integrator, parameter_values: Mapping[str, float], start: float, t_fail: float):
     from compiler import runtime
     span = t_fail - start
     for closest in (1e-6, 1e-2):        # at most two more runs: a failure costs at most 3 runs
@@ -154,7 +156,8 @@ def _run_towards(model, parameter_values: Mapping[str, float], start: float, t_f
                       | {start + span * (1 - closest)} | {start + span * j / 20 for j in range(20)})
         try:
             result = runtime.simulate(model, options=runtime.SimulationOptions(
-                stop=grid[-1], start=start, saveat=grid, params=dict(parameter_values), progress=False))
+                stop=grid[-1], start=start, saveat=grid, params=dict(parameter_values), progress=False,
+                integrator=integrator))
         except Exception:           # noqa: BLE001 - it fails before that point too: stop earlier
             continue
         return np.asarray(result.time, dtype=float), {n: np.asarray(result[n], dtype=float)

@@ -50,6 +50,8 @@ typedef struct {
   int *active;             /* watched rows looked at (1) or ignored (0: a constant 1.0) */
   int *zero_side;          /* the sign a row's exact zero is taken as (its relation's value there) */
   int *found;
+  int *proposes;           /* rows whose crossing only proposes a state-set switch (the caller decides) */
+  double *g;               /* the watched rows at the end of a step */
   double *jac_values[20];  /* the Jacobian blocks d(ode, alg)/d(x, z), by output of jac_dyad_dae */
   SUNContext ctx;
   void *ida;

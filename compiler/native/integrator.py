@@ -5,16 +5,19 @@ event that moves the event clock); `tstop` at the call's reach; the watched rows
 own root finding, with direction; the outputs by dense output; the statistics read from IDAS."""
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Mapping
 
 import numpy as np
 
 from compiler.runtime.checks import RUNAWAY_LIMIT, check_divergence
-from compiler.runtime.crossings import root_directions
+from compiler.runtime.crossings import proposing_rows, root_directions
 from compiler.runtime.errors import SimulationFailed
 from compiler.runtime.idas import idas_reason
 from compiler.runtime.integrator import FAILED, REACHED, Call, Stop, Tally
 from compiler.runtime.model import CompiledModel
+from compiler.runtime.state_sets import degraded_level
+from compiler.runtime.switching import all_outputs
 from compiler.runtime.watches import Watch
 
 from . import library
@@ -28,6 +31,12 @@ NOT_APPLICABLE = {"calc_ic", "init_xdot", "disable_internal_warnings", "show_eva
                   "linear_solver"}
 
 
+# how far of the way to a failure a state-set model's call is repeated (_failed); to where IDAS
+# failed, the repeated call (with tstop there) failed too (the Test Set's transistor amplifier
+# written with its diode currents, tests/structure/test_models.py)
+RETRY_REACH = 0.9
+
+
 def unhonoured_options(options: Mapping) -> list[str]:
     """The IDAS options the native driver cannot honour (their run goes to CasADi's IDAS)."""
     return sorted(set(options) - HONOURED - NOT_APPLICABLE)
@@ -37,6 +46,7 @@ class NativeIdas:
     """Integrator on the native driver for one model (its C library) and one set of options."""
     locates_crossings = True
     name = "native"
+    why = None
 
     def __init__(self, model: CompiledModel, options: Mapping, watch: Watch | None, tally: Tally,
                  watch_atol: float):
@@ -47,11 +57,15 @@ class NativeIdas:
         atol = np.asarray(options.get("abstolv", [options.get("abstol", 1e-8)] * (nx + nz)), dtype=float)
         directions = root_directions(watch) if watch is not None else np.zeros(0, dtype=int)
         sides = zero_sides(watch) if watch is not None else np.zeros(0, dtype=int)
+        proposes = np.zeros(nrows, dtype=int)
+        proposes[proposing_rows(model, watch) if watch is not None else []] = 1
+        self.level_rows = {what: i for i, (kind, what) in enumerate(watch.labels if watch else ())
+                           if kind == "state set"}
         flag = self.driver.setup(float(options.get("reltol", 1e-6)), atol,
                                  bool(options.get("suppress_algebraic", False)),
                                  float(options.get("max_step_size", 0.0)),
                                  int(options.get("max_multistep_order", 0)), directions, sides,
-                                 watch_atol)
+                                 proposes, watch_atol)
         if flag:
             raise RuntimeError(f"IDAS set-up failed: {_flag_name(flag)} ({self.driver.message()})")
         self.max_steps = int(options.get("max_num_steps", 100000))
@@ -69,10 +83,22 @@ class NativeIdas:
             self.counted[:] = 0
             if flag:
                 return self._failed(call, flag, call.t0)
-        flag, k, xs, zs, t, x, z, row, direction = self.driver.advance(
-            call.reach, call.outputs, RUNAWAY_LIMIT * call.scale, self.max_steps)
+        samples = []
+        while True:
+            done = sum(len(times) for times, _, _ in samples)
+            flag, k, xs, zs, t, x, z, row, direction = self.driver.advance(
+                call.reach, call.outputs[done:], RUNAWAY_LIMIT * call.scale, self.max_steps)
+            samples.append((call.outputs[done:done + k], xs, zs))
+            if flag != library.PROPOSED:
+                break
+            # a multi-row level proposes a switch (its indicator is not positive): taken where its
+            # pivot has degraded at this point, else IDAS steps on with its history
+            level = degraded_level(self.model.state_sets, all_outputs(self.model, x, z, call.p, t))
+            if level in self.level_rows:
+                self._tally()
+                self.at = None
+                return Stop("state set", t, x, z, samples, self.level_rows[level], level)
         self._tally()
-        samples = [(call.outputs[:k], xs, zs)]
         if flag == library.REACHED:
             self.at = (call.reach, x, z, call.p, active)
             return Stop(REACHED, call.reach, x, z, samples)
@@ -107,7 +133,12 @@ class NativeIdas:
         reason = idas_reason(f'returned "{_flag_name(flag)}"', said)
         failure = SimulationFailed(f"simulation of {self.model.name} failed at t = {t:.10g}: {reason}",
                                    float(t), reason)
-        return Stop(FAILED, call.t0, call.x0, call.z0, failure=failure)
+        # a state-set model: the call again, cut short of the failure (RETRY_REACH of the way),
+        # where the run looks for the state set pivoting prefers before going into the failure
+        # again (stops.on_reached), as CasADi's IDAS runs do from the check before a failure
+        retry = replace(call, reach=call.t0 + RETRY_REACH * (t - call.t0), retry=True) \
+            if self.model.state_sets and not call.retry and call.t0 < t <= call.reach else None
+        return Stop(FAILED, call.t0, call.x0, call.z0, failure=failure, retry=retry)
 
 
 # a relation's operator in its event label (str of the sympy relational, compiler/lower/events.py)

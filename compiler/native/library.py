@@ -24,7 +24,7 @@ IDA_FLAGS = {-1: "IDA_TOO_MUCH_WORK", -2: "IDA_TOO_MUCH_ACC", -3: "IDA_ERR_FAIL"
              -20: "IDA_MEM_NULL", -21: "IDA_MEM_FAIL", -22: "IDA_ILL_INPUT", -26: "IDA_BAD_T",
              -27: "IDA_BAD_DKY"}
 # what dyad_ida_advance returns besides IDAS's negative flags
-REACHED, ROOT, RUNAWAY, INTERRUPTED = 0, 1, 2, 3
+REACHED, ROOT, RUNAWAY, INTERRUPTED, PROPOSED = 0, 1, 2, 3, 4
 COUNTER_NAMES = ("steps", "residual_evaluations", "jacobian_evaluations", "linear_solver_setups",
                  "error_test_failures", "newton_iterations", "newton_convergence_failures")
 
@@ -55,7 +55,7 @@ def _load(path: Path) -> tuple[ctypes.CDLL | None, str]:
         "dyad_ida_new": (vp, [ci, i, i, i, i, ctypes.c_char_p, i]),
         "dyad_ida_free": (None, [vp]),
         "dyad_ida_message": (ci, [vp]),
-        "dyad_ida_setup": (i, [vp, d, _DOUBLES, i, d, i, _INTS, _INTS, d]),
+        "dyad_ida_setup": (i, [vp, d, _DOUBLES, i, d, i, _INTS, _INTS, _INTS, d]),
         "dyad_ida_restart": (i, [vp, d, _DOUBLES, _DOUBLES, _DOUBLES, _INTS, d]),
         "dyad_ida_advance": (i, [vp, d, i, _DOUBLES, _DOUBLES, _DOUBLES, ctypes.POINTER(i), _DOUBLES,
                                  ctypes.c_long, ctypes.POINTER(d), _DOUBLES, _DOUBLES,
@@ -102,11 +102,13 @@ class Driver:
         return self.lib.dyad_ida_message(self.handle).decode(errors="replace")
 
     def setup(self, rtol: float, atol: np.ndarray, suppress_algebraic: bool, max_step: float,
-              max_order: int, directions: np.ndarray, zero_sides: np.ndarray, watch_atol: float) -> int:
+              max_order: int, directions: np.ndarray, zero_sides: np.ndarray, proposes: np.ndarray,
+              watch_atol: float) -> int:
         return self.lib.dyad_ida_setup(self.handle, rtol, np.ascontiguousarray(atol, dtype=float),
                                        int(suppress_algebraic), max_step, max_order,
                                        np.ascontiguousarray(directions, dtype=np.intc),
-                                       np.ascontiguousarray(zero_sides, dtype=np.intc), watch_atol)
+                                       np.ascontiguousarray(zero_sides, dtype=np.intc),
+                                       np.ascontiguousarray(proposes, dtype=np.intc), watch_atol)
 
     def restart(self, t0: float, x0, z0, p, active: np.ndarray, step0: float) -> int:
         return self.lib.dyad_ida_restart(self.handle, t0, _vector(x0), _vector(z0), _vector(p),

@@ -9,7 +9,7 @@ import numpy as np
 from .errors import SimulationFailed
 from .model import CompiledModel
 from .outputs import evaluate_outputs, polish_algebraics
-from .state_sets import SWITCH_RATIO, state_selection_quality
+from .state_sets import SWITCH_RATIO, degraded_level
 from .watches import Watch
 
 ROOT_ITERATIONS = 60
@@ -105,13 +105,8 @@ def first_crossing(model: CompiledModel, watch: Watch, t0, p, times, checks, seg
     crossed &= np.isfinite(before)
     if ignored:
         crossed[sorted(ignored)] = False
-    # a single-row level's indicator is its quality test already (|pivot| against the largest
-    # alternative); a multi-row level's only proposes a switch, taken where the chosen block's
-    # smallest singular value is below SWITCH_RATIO times that of the block pivoting would choose
-    # (the determinant ratio behind the indicator depends on the columns' units)
     rows_of = {what: i for i, (kind, what) in enumerate(watch.labels) if kind == "state set"}
-    multi = [rows_of[level] for level, spec in enumerate(model.state_sets)
-             if level in rows_of and int(spec["rows"]) > 1]
+    multi = proposing_rows(model, watch)
     crossed[multi] = False
     hits = list(np.nonzero(crossed.any(axis=0))[0])
     proposed = list(np.nonzero((~(after[multi] > 0)).any(axis=0))[0]) if multi else []
@@ -132,6 +127,17 @@ def first_crossing(model: CompiledModel, watch: Watch, t0, p, times, checks, seg
     return float(checks[j]), float(t0 if j == 0 else checks[j - 1]), row
 
 
+def proposing_rows(model: CompiledModel, watch: Watch) -> list[int]:
+    """The watched rows whose crossing only proposes a state-set switch. A single-row level's
+    indicator is its quality test already (|pivot| against the largest alternative); a multi-row
+    level's is not: the switch is taken where the chosen block's smallest singular value is below
+    SWITCH_RATIO times that of the block pivoting would choose (state_sets.degraded_level; the
+    determinant ratio behind the indicator depends on the columns' units)."""
+    rows_of = {what: i for i, (kind, what) in enumerate(watch.labels) if kind == "state set"}
+    return [rows_of[level] for level, spec in enumerate(model.state_sets)
+            if level in rows_of and int(spec["rows"]) > 1]
+
+
 QUALITY_PROBES = 8        # proposed checks whose pivot quality is computed first, evenly spread
 
 
@@ -142,8 +148,8 @@ def _first_degraded(model: CompiledModel, outputs: np.ndarray, rows_of: dict) ->
     every proposed check was evaluated): evenly spread probes first, then a bisection between the
     last good probe and the first bad one (a degraded pivot stays degraded until the switch)."""
     def degraded(column: int):
-        quality, level = state_selection_quality(model.state_sets, outputs[:, column])
-        return level if quality < SWITCH_RATIO and level in rows_of else None
+        level = degraded_level(model.state_sets, outputs[:, column])
+        return level if level in rows_of else None
     n = outputs.shape[1]
     probes = sorted(set(np.linspace(0, n - 1, min(n, QUALITY_PROBES)).round().astype(int).tolist()))
     good, bad = -1, None

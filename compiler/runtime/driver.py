@@ -93,6 +93,8 @@ def _run_watched(run, model, p, point, progress, stats, began) -> Result:
     stats.update(run.counters)
     stats["state_switches"] = run.switches
     stats["integrator"] = ", ".join(sorted(run.integrator_names))
+    if run.integrator_why:
+        stats["integrator_why"] = "; ".join(run.integrator_why)
     if run.bounds_left:                   # declared bounds the run left and went on (bounds="warn")
         stats["bounds_left"] = run.bounds_left
     if run.switches:                      # what IDAS ran at from the first switch on

@@ -2,7 +2,7 @@
 gets back. The loop says where a call starts, how far it may go and which output times it wants;
 the integrator goes there and says where and why it stopped (docs/runtime.md, "The Integrator
 interface"). Implementations: `SampledIdas` (sampled_idas.py, IDAS through CasADi, crossings found
-at check times after each call); a native IDAS with root finding fits the same interface.
+at check times after each call) and `NativeIdas` (compiler/native/, IDAS's own root finding).
 """
 from __future__ import annotations
 
@@ -76,6 +76,8 @@ class Integrator(Protocol):
     # True: crossings are found while integrating (root finding), so every call may reach the
     # segment's end; False: after a call, so the loop shortens calls (event_horizon.py, horizons)
     locates_crossings: bool
+    # why this integrator runs where another was the first choice (Result.stats["integrator_why"])
+    why: str | None
 
     def advance(self, call: Call) -> Stop: ...
 

@@ -36,8 +36,9 @@ class SimulationOptions:
     # metadata, checked) goes on with a warning, "error" stops the run there
     bounds: str = "warn"
     # what makes the run's integrators, make_integrator(model, idas options, watch, tally) ->
-    # Integrator (integrator.py); None: CasADi's IDAS (sampled_idas.SampledIdas).
-    # compiler.native.make_integrator: the native IDAS driver, where it can run the model
+    # Integrator (integrator.py); None: CasADi's IDAS (sampled_idas.SampledIdas), the runtime's own.
+    # Runs through the compiler (compiled_runs.simulate_compiled) get the native IDAS driver where it
+    # can run the model (compiler.native.integrator_maker)
     integrator: Callable | None = None
 
     def validated(self) -> "SimulationOptions":

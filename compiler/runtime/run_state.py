@@ -70,6 +70,7 @@ class RunState:
         self.ignored: set[tuple] = set()         # watch labels no longer located (bounds warned of)
         self.integrators: dict[tuple, tuple] = {}
         self.integrator_names: set[str] = set()  # which integrators ran (Result.stats["integrator"])
+        self.integrator_why: dict[str, None] = {}  # why not the first choice, in order (ordered set)
         self.parameter_vectors: dict[int, np.ndarray] = {}    # per state set, read-only
         self.pending: dict[int, tuple] = {}
         self.forced_ends: set[float] = set()     # ends of calls cut before a failure
@@ -121,6 +122,8 @@ class RunState:
                                       self.options.max_steps, self.options.idas_options(), switched)
             integrator = self.make_integrator(model, opts, watch, self.add)
             self.integrator_names.add(getattr(integrator, "name", type(integrator).__name__))
+            if getattr(integrator, "why", None):
+                self.integrator_why.setdefault(integrator.why, None)
             self.integrators[key] = (model, integrator)
         return self.integrators[key][1]
 

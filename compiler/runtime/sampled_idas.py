@@ -26,7 +26,9 @@ class SampledIdas:
     locates_crossings = False
     name = "casadi"
 
-    def __init__(self, model: CompiledModel, options: Mapping, watch: Watch | None, tally: Tally):
+    def __init__(self, model: CompiledModel, options: Mapping, watch: Watch | None, tally: Tally,
+                 why: str | None = None):
+        self.why = why                    # why it runs where the native driver was the first choice
         self.model = model
         self.idas = IdasIntegrator(model, options)
         self.watch = watch

@@ -103,6 +103,13 @@ def state_selection_quality(state_sets: Sequence[Mapping], column: np.ndarray) -
     return quality, worst
 
 
+def degraded_level(state_sets: Sequence[Mapping], column: np.ndarray) -> int | None:
+    """The monitored level whose chosen pivot block has degraded at the point whose outputs are
+    `column` (its quality below SWITCH_RATIO: the switch is taken there); None where it serves."""
+    quality, level = state_selection_quality(state_sets, column)
+    return level if quality < SWITCH_RATIO and level >= 0 else None
+
+
 def _smallest_singular(block: np.ndarray) -> float:
     return float(np.linalg.svd(block, compute_uv=False)[-1]) if block.size else 0.0
 

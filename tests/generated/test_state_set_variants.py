@@ -21,6 +21,10 @@ SPEC = "Hard.CartesianPendulumLarge"
 SETTINGS = dict(rtol=1e-8, atol=1e-8, points=2001)
 STOP = 20.0
 
+# generated modules run on CasADi's IDAS (runtime.simulate; docs/runtime.md): the in-process
+# references here too, number for number
+REFERENCE_INTEGRATOR = "casadi"
+
 
 def run_module(module_dir: Path, name: str) -> dict:
     script = (
@@ -44,7 +48,7 @@ def compilation():
 
 @pytest.fixture(scope="module")
 def in_process(compilation):
-    return api.simulate_compiled(compilation, STOP, **SETTINGS)
+    return api.simulate_compiled(compilation, STOP, **SETTINGS, integrator=REFERENCE_INTEGRATOR)
 
 
 def switches(result) -> list:
@@ -70,7 +74,8 @@ def test_c_code_of_every_state_set_switches_exactly_as_the_in_process_c_run(tmp_
     native = compile_c(compilation.model, tmp_path / "c-cache")
     assert native.native_library is not None
     assert all(v.native_library is not None for v in native.variants.values())
-    in_c = api.simulate_compiled(dataclass_with_model(compilation, native), STOP, **SETTINGS)
+    in_c = api.simulate_compiled(dataclass_with_model(compilation, native), STOP, **SETTINGS,
+                                 integrator=REFERENCE_INTEGRATOR)
     write_module(native, "pendulum_large_c", tmp_path / "module", standalone=True)
     assert len(list((tmp_path / "module").glob("pendulum_large_c_dae*.so"))) == 2
     out = run_module(tmp_path / "module", "pendulum_large_c")
@@ -132,7 +137,8 @@ def test_a_three_body_chain_carries_its_14_state_sets_and_its_module_switches_as
         tmp_path, chain_compilation):
     # 656 structurally regular sets once, over the limit of 64, so the module carried one set only
     assert len(chain_compilation.model.variants) == 13
-    in_process = api.simulate_compiled(chain_compilation, CHAIN_STOP, **CHAIN_SETTINGS)
+    in_process = api.simulate_compiled(chain_compilation, CHAIN_STOP, **CHAIN_SETTINGS,
+                                       integrator=REFERENCE_INTEGRATOR)
     assert len(in_process.switches) >= 3
     write_module(chain_compilation.model, "chain3", tmp_path, standalone=True)
     assert_same_chain_run(run_chain_module(tmp_path, "chain3"), in_process)
@@ -142,7 +148,8 @@ def test_a_three_body_chain_carries_its_14_state_sets_and_its_module_switches_as
 def test_a_three_body_chain_in_c_switches_as_in_process_in_c(tmp_path, chain_compilation):
     native = compile_c(chain_compilation.model, tmp_path / "c-cache")
     assert all(v.native_library is not None for v in native.variants.values())
-    in_c = api.simulate_compiled(dataclass_with_model(chain_compilation, native), CHAIN_STOP, **CHAIN_SETTINGS)
+    in_c = api.simulate_compiled(dataclass_with_model(chain_compilation, native), CHAIN_STOP, **CHAIN_SETTINGS,
+                                 integrator=REFERENCE_INTEGRATOR)
     write_module(native, "chain3_c", tmp_path / "module", standalone=True)
     out = run_chain_module(tmp_path / "module", "chain3_c")
     assert out["native"] == ["True"] * 13
@@ -155,7 +162,7 @@ def test_the_transistor_amplifier_module_switches_as_in_process(tmp_path):
                               lib_dirs=(str(Path(__file__).resolve().parents[1] / "structure" / "models"),))
     assert len(compilation.model.variants) == 38
     settings = dict(rtol=1e-8, atol=1e-8, points=201)
-    in_process = api.simulate_compiled(compilation, 0.1, **settings)
+    in_process = api.simulate_compiled(compilation, 0.1, **settings, integrator=REFERENCE_INTEGRATOR)
     assert len(in_process.switches) >= 10
     write_module(compilation.model, "transistor", tmp_path, standalone=True)
     script = ("import json, sys\nimport transistor as m\n"

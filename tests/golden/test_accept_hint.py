@@ -11,7 +11,7 @@ DECAY = """component Decay
 relations
   initial x = 1
   der(x) = -x
-metadata {"Dyad": {"tests": {"decay": {"stop": 1, "atol": {"x": 1e-6}, "expect": {"signals": ["x"]}}}}}
+metadata {"Dyad": {"tests": {"decay": {"stop": 1, "rtol": 1e-8, "atol": {"x": 1e-6}, "expect": {"signals": ["x"]}}}}}
 end
 """
 

@@ -48,10 +48,13 @@ def reference():
             "multipliers": (MULTIPLIER_NAMES, multipliers)}
 
 
-@pytest.fixture(scope="module")
-def runs(squeezer):
-    return {rtol: api.simulate_compiled(squeezer, andrews.T_END, points=31, rtol=rtol, atol=rtol)
-            for rtol in (1e-10, 1e-11, 1e-12)}
+@pytest.fixture(scope="module", params=["native", "casadi"])
+def runs(request, squeezer):
+    """The runs at rtol 1e-10, 1e-11 and 1e-12 on one integrator, by rtol (and "integrator")."""
+    found = {rtol: api.simulate_compiled(squeezer, andrews.T_END, points=31, rtol=rtol, atol=rtol,
+                                         integrator=request.param) for rtol in (1e-10, 1e-11, 1e-12)}
+    assert {r.stats["integrator"] for r in found.values()} == {request.param}
+    return {**found, "integrator": request.param}
 
 
 def worst_relative_error(result, names, values) -> float:
@@ -70,20 +73,28 @@ def test_runs_over_the_whole_span_on_the_constraints(runs, rtol):
         assert np.max(np.abs(andrews.constraint_jacobian(q) @ v)) < 1e-12  # measured 6.7e-15
 
 
-# Measured worst relative errors per group (angles, rates, accelerations, multipliers):
-# 1e-10: 2.0e-10, 2.2e-8, 3.4e-8, 2.5e-9; 1e-11: 1.8e-11, 1.9e-9, 2.8e-9, 1.6e-10;
-# 1e-12: 6.8e-12, 8.3e-10, 1.3e-9, 8.3e-11. The bounds are about 4x those.
-BOUNDS = {1e-11: {"angles": 8e-11, "rates": 8e-9, "accelerations": 1.2e-8, "multipliers": 6e-10},
-          1e-12: {"angles": 3e-11, "rates": 4e-9, "accelerations": 5e-9, "multipliers": 4e-10}}
+# Measured worst relative errors per group (angles, rates, accelerations, multipliers), CasADi's
+# IDAS: 1e-10: 2.0e-10, 2.2e-8, 3.4e-8, 2.5e-9; 1e-11: 1.8e-11, 1.9e-9, 2.8e-9, 1.6e-10;
+# 1e-12: 6.8e-12, 8.3e-10, 1.3e-9, 8.3e-11. The native driver: 1e-10: 5.5e-11, 6.1e-9, 9.2e-9,
+# 4.2e-10; 1e-11: 1.6e-10, 1.8e-8, 2.7e-8, 1.8e-9; 1e-12: 3.0e-11, 3.4e-9, 5.2e-9, 3.4e-10. The
+# bounds are about 4x those. At t = 0.03 alone these scatter: the largest error over the 31 output
+# times falls 50x from 1e-10 to 1e-12 on CasADi's IDAS and 20x on the native driver
+# (docs/numerics.md, "The native IDAS driver": an open gap).
+BOUNDS = {"casadi": {1e-11: {"angles": 8e-11, "rates": 8e-9, "accelerations": 1.2e-8, "multipliers": 6e-10},
+                     1e-12: {"angles": 3e-11, "rates": 4e-9, "accelerations": 5e-9, "multipliers": 4e-10}},
+          "native": {1e-11: {"angles": 6e-10, "rates": 7e-8, "accelerations": 1.1e-7, "multipliers": 7e-9},
+                     1e-12: {"angles": 1.2e-10, "rates": 1.4e-8, "accelerations": 2e-8, "multipliers": 1.4e-9}}}
 
 
 @pytest.mark.parametrize("rtol", [1e-11, 1e-12])
 @pytest.mark.parametrize("group", ["angles", "rates", "accelerations", "multipliers"])
 def test_every_group_matches_the_independent_reference(runs, reference, rtol, group):
     names, values = reference[group]
-    assert worst_relative_error(runs[rtol], names, values) < BOUNDS[rtol][group]
+    assert worst_relative_error(runs[rtol], names, values) < BOUNDS[runs["integrator"]][rtol][group]
 
 
+# on CasADi's IDAS only: the native driver gains 1.2-1.8x at t = 0.03 (docs/numerics.md, an open gap)
+@pytest.mark.parametrize("runs", ["casadi"], indirect=True)
 @pytest.mark.parametrize("group", ["angles", "rates", "accelerations", "multipliers"])
 def test_rtol_1e12_gains_a_digit_over_1e10_in_every_group(runs, reference, group):
     names, values = reference[group]

@@ -36,6 +36,11 @@ from tests.metamorphic.starts import StartContext
 FACTOR = 10.0
 FLOOR = 10.0
 REFERENCE_RTOL = 1e-12
+# The reference runs on CasADi's IDAS: at rtol 1e-12 (5e-14 after a state-set switch) the native
+# driver fails on the Test Set's transistor amplifier at t = 0.0131 (IDA_CONV_FAIL, the retries
+# short of it included; docs/numerics.md, "Tight tolerances: an open gap"); the runs compared
+# with it take the default path
+REFERENCE_INTEGRATOR = "casadi"
 
 
 @dataclasses.dataclass
@@ -59,8 +64,10 @@ def run(path: Path, base: Base, *rtols: float) -> list[Outcome]:
         return [_stopped(err)] * len(rtols)
     outcomes = []
     for rtol in rtols:
+        integrator = REFERENCE_INTEGRATOR if rtol == REFERENCE_RTOL else None
         try:
-            result = api.simulate_compiled(compilation, base.stop, points=base.points, rtol=rtol, atol=rtol)
+            result = api.simulate_compiled(compilation, base.stop, points=base.points, rtol=rtol, atol=rtol,
+                                           integrator=integrator)
         except DyadError as err:
             outcomes.append(_stopped(err))
             continue

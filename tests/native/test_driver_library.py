@@ -34,8 +34,8 @@ def model_library(folder: Path, ode, alg, x, z, p) -> Path:
 
 def integrate(path: Path, nx: int, nz: int, p, x0, z0, times, rtol=1e-10):
     driver = library.Driver(str(path), nx, nz, len(p), 0)
-    assert driver.setup(rtol, np.full(nx + nz, 1e-12), False, 0.0, 0, np.zeros(0, np.intc), np.zeros(0, np.intc),
-                        0.0) == 0
+    none = np.zeros(0, np.intc)
+    assert driver.setup(rtol, np.full(nx + nz, 1e-12), False, 0.0, 0, none, none, none, 0.0) == 0
     assert driver.restart(0.0, x0, z0, p, np.zeros(0, np.intc), 0.0) == 0
     flag, done, xs, zs, t, x, z, _, _ = driver.advance(times[-1], times, np.full(nx, 1e300), 100000)
     assert (flag, done, t) == (library.REACHED, len(times), times[-1])

@@ -129,9 +129,11 @@ def test_a_bound_left_is_warned_of_once_where_it_is_crossed_and_the_run_goes_on(
     assert result.time[-1] == 3.0 and result["x"][-1] == pytest.approx(-2.0, abs=1e-8)
 
 
-def test_a_condition_on_julias_rem_of_time_is_located_not_stepped_over(tmp_path):
+def test_a_condition_on_julias_rem_of_time_is_located_not_stepped_over(tmp_path, each_codegen):
     # `%` is Julia's rem (with the sign of its argument): no closed form for its times here, so the
-    # driver watches the condition and locates each crossing
+    # driver watches the condition and locates each crossing. The last one is at the stop, t = 5:
+    # IDAS's root finding (c: native) finds it at its tstop; CasADi's IDAS (vm) finds crossings
+    # between check times, and none lies past the stop
     spec = model_file(tmp_path, "HalfOn", """
   variable x::Real
 relations
@@ -139,4 +141,66 @@ relations
   der(x) = if time % 2.0 < 1.0 then 1.0 else 0.0""")
     result = api.simulate(spec, 5.0, rtol=1e-8, atol=1e-10, points=6)
     np.testing.assert_allclose(result["x"], [0, 1, 1, 2, 2, 3], atol=1e-7)
-    assert [round(e["time"], 6) for e in result.events if "<" in e["event"]] == [1.0, 2.0, 3.0, 4.0]
+    located = [round(e["time"], 6) for e in result.events if "<" in e["event"]]
+    assert located == ([1.0, 2.0, 3.0, 4.0, 5.0] if each_codegen == "c" else [1.0, 2.0, 3.0, 4.0])
+
+
+@pytest.mark.parametrize("relation, slope", [("x > 0", 1), ("x < 0", -1)])
+def test_a_relation_that_starts_on_its_zero_and_leaves_it(tmp_path, each_codegen, relation, slope):
+    """x = 0 at the start makes `relation` false; it is true from the first instant on, so y = t.
+    The native driver (c) counts the exact zero as the relation's false side, so IDAS's root
+    finding sees the sign change at t = 0 either way. CasADi's IDAS (vm) compares signs at its
+    check times (zero counts as not positive): `x > 0` goes from 0 to positive, a crossing it
+    locates near 0; `x < 0` from 0 to negative, none, and the relation stays false until its next
+    call settles it: y(2) = 1.9 (measured)."""
+    spec = model_file(tmp_path, "Leaves", f"""
+  variable x::Real
+  variable y::Real
+relations
+  initial x = 0
+  initial y = 0
+  der(x) = {slope}
+  der(y) = if {relation} then 1.0 else 0.0""")
+    result = api.simulate(spec, 2.0, rtol=1e-8, atol=1e-10, points=5)
+    if each_codegen == "c":
+        assert result.stats["integrator"] == "native"
+        assert result["y"][-1] == pytest.approx(2.0, abs=1e-9)
+        ((event,),) = [result.events]
+        assert event["event"] == relation and event["time"] < 1e-12
+        assert event["direction"] == ("rising" if slope > 0 else "falling")
+    elif slope > 0:
+        assert result.stats["integrator"] == "casadi"
+        assert result["y"][-1] == pytest.approx(2.0, abs=1e-9) and len(result.events) == 1
+    else:
+        assert result.stats["integrator"] == "casadi"
+        assert result["y"][-1] == pytest.approx(1.9, abs=1e-9) and result.events == []
+
+
+def test_a_relation_true_only_between_two_checks_is_found(tmp_path, each_codegen):
+    """der(w) exceeds 0.5 for 1.7 ms around t = 0.5225 of a 1 s run whose steps reach 0.5 ms at
+    most: IDAS's root finding (c: native) sees it rise and fall at the steps around it; CasADi's
+    IDAS (vm) samples it at 200 checks per call, 5 ms apart (0.520 and 0.525 around it), and sees
+    neither crossing: y stays 0."""
+    spec = model_file(tmp_path, "Bump", """
+  parameter center::Real = 0.5225
+  parameter width::Real = 0.001
+  variable u::Real
+  variable w::Real
+  variable y::Real
+relations
+  initial u = 0
+  initial w = 0
+  initial y = 0
+  der(u) = 1
+  der(w) = exp(-((u - center) / width)^2)
+  der(y) = if der(w) > 0.5 then 1.0 else 0.0""")
+    result = api.simulate_compiled(api.compile(spec), 1.0, rtol=1e-8, atol=1e-10, points=11, max_step=5e-4)
+    half = 0.001 * math.sqrt(math.log(2))
+    if each_codegen == "c":
+        assert result.stats["integrator"] == "native"
+        assert result["y"][-1] == pytest.approx(2 * half, abs=1e-10)
+        assert [(e["direction"], round(e["time"], 9)) for e in result.events] == \
+            [("rising", round(0.5225 - half, 9)), ("falling", round(0.5225 + half, 9))]
+    else:
+        assert result.stats["integrator"] == "casadi"
+        assert result["y"][-1] == 0.0 and result.events == []

@@ -23,10 +23,12 @@ def pendulum():
 
 
 def separate_runs(design):
-    """Each sample run on its own fresh compilation by the compiler's own simulate."""
+    """Each sample run on its own fresh compilation by the compiler's own simulate, on CasADi's
+    IDAS as a sweep's workers run it (they get the model without its C library: docs/sweeps.md)."""
     runs = {}
     for sample, params in enumerate(design):
-        result = api.simulate_compiled(pendulum(), RUN["stop"], points=RUN["points"], params=params)
+        result = api.simulate_compiled(pendulum(), RUN["stop"], points=RUN["points"], params=params,
+                                       integrator="casadi")
         runs[sample] = result
     return runs
 
