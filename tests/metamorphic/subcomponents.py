@@ -10,6 +10,7 @@ import random
 import shutil
 from pathlib import Path
 
+from compiler.model.library import Library
 from compiler.syntax import ast
 from compiler.syntax.format import format_file
 from compiler.syntax.parser import parse_file
@@ -24,15 +25,18 @@ class SubcomponentRewrite:
     applied: list[str]       # the rewrites applied
 
 
+_SHIPPED = Library(include_shipped=True)
+
+
 def library_definitions(component: ast.ComponentDef) -> list[tuple[str, Path]]:
     """(qualified name, file) of each shipped-library definition `component` instantiates."""
     found = set()
     for d in component.declarations:
         if isinstance(d, ast.ComponentDecl) and "." in d.type_name:
-            *package, name = d.type_name.split(".")
-            path = LIBRARY.joinpath(*package, f"{name}.dyad")
-            if path.is_file():
-                found.add((d.type_name, path))
+            # the library's own lookup: a flat path names the definition at its documented one
+            resolved = _SHIPPED.find(d.type_name) or _SHIPPED.find_aliased(d.type_name)
+            if resolved is not None and Path(resolved.file.path).is_relative_to(LIBRARY):
+                found.add((resolved.qualified_name, Path(resolved.file.path)))
     return sorted(found)
 
 
