@@ -32,12 +32,11 @@ def translate_runtime_error(err: Exception, reduced: ReducedSystem | None = None
         notes = []
         for index, value, label in err.worst:
             origin = origins[index] if index < len(origins) else None
-            said = "is among the equations that leave it undetermined" if getattr(err, "undetermined", False) \
-                else f"is off by {value:.6g}"
             if origin is not None and getattr(origin, "span", None) is not None:
-                notes.append(Note(f"this initial condition ({origin.path or '<model>'}) {said}", origin.span))
+                notes.append(Note(f"this initial condition ({origin.path or '<model>'}) is off by "
+                                  f"{value:.6g}", origin.span))
             else:
-                notes.append(Note(f"{label} {said}"))
+                notes.append(Note(f"{label} is off by {value:.6g}"))
         error = SimulationError(str(err).split("\n")[0].replace("; largest residuals:", ""),
                                 err.time_reached, err.reason,
                                 hint="check the initial equations and values named in the notes; "

@@ -21,14 +21,11 @@ class SimulationFailed(Exception):
 
 
 class InitializationFailed(SimulationFailed):
-    """No consistent initial point. `worst` lists (residual index, value, label), largest first;
-    with `undetermined`, the equations of a direction the initial conditions leave undetermined."""
+    """No consistent initial point. `worst` lists (residual index, value, label), largest first."""
 
-    def __init__(self, message: str, time_reached: float, worst: list[tuple[int, float, str]],
-                 undetermined: bool = False):
+    def __init__(self, message: str, time_reached: float, worst: list[tuple[int, float, str]]):
         super().__init__(message, time_reached, "inconsistent or unsolvable initial conditions")
         self.worst = worst
-        self.undetermined = undetermined
 
 
 class SimulationInterrupted(KeyboardInterrupt):

@@ -191,39 +191,7 @@ def consistent_initialization(model: CompiledModel, p: np.ndarray, t0: float, *,
             f"initialization failed at t = {t0:g}: the initial conditions are inconsistent or "
             f"have no solution near the guesses ({iterations} iterations); largest residuals:\n"
             f"{lines}", t0, worst)
-    _require_first_order(model, jac, w, t0)
     return InitialPoint(w[:nx].copy(), w[nx:].copy(), iterations, float(np.max(measure, initial=0)))
-
-
-# Below this ratio of the equilibrated Jacobian's smallest to largest singular value at the
-# solution, the initial conditions are taken to leave a direction of the unknowns undetermined to
-# first order. The models of the metamorphic corpus start at 5e-5 (Andrews' squeezer) to 1 (the
-# excavator 0.1); Andrews with its crank given by a dependent angle at its extremum stops at
-# 1e-7 to 1e-17, 7e-6 off in the crank angle, and IDAS failed at t = 0 (2026-11-28, issue 25).
-FIRST_ORDER = 1e-6
-
-
-def _require_first_order(model: CompiledModel, jac: np.ndarray, w: np.ndarray, t0: float) -> None:
-    """Raise InitializationFailed naming the unknowns the direction moves (relative to their
-    size at the solution `w`; the states among them, where any) and the equations of the direction the initialization leaves
-    undetermined to first order (conditioning below FIRST_ORDER)."""
-    if jac.shape[0] < jac.shape[1] or not jac.size:
-        return                     # under-determined: the structural choice fixed the rest
-    ratio, rows, columns = conditioning(jac)
-    if ratio >= FIRST_ORDER:
-        return
-    names = list(model.state_names) + list(model.algebraic_names)
-    relative = np.abs(columns) / (1.0 + np.abs(w))
-    moved = [i for i in np.argsort(-relative, kind="stable") if relative[i] > 1e-6 * np.max(relative)]
-    states = [i for i in moved if i < len(model.state_names)]       # what initial conditions are given on
-    involved = [names[i] for i in (states or moved)][:6]
-    equations = [(int(i), 0.0, _label(model, int(i))) for i in np.argsort(-np.abs(rows), kind="stable")
-                 if abs(rows[i]) > 0.1 * np.max(np.abs(rows))][:6]
-    raise InitializationFailed(
-        f"initialization failed at t = {t0:g}: the initial conditions determine {', '.join(involved)} only to "
-        f"second order or not at all (the Jacobian of the initial equations is singular at their solution: "
-        f"its smallest singular value is {ratio:.2g} of its largest); give an initial condition on a "
-        f"variable that moves to first order there", t0, equations, undetermined=True)
 
 
 def _label(model: CompiledModel, index: int) -> str:

@@ -131,8 +131,7 @@ START_SAMPLE = (("CarAxis", 0), ("CarAxis", 1), ("AndrewsTestSet", 1), ("Andrews
 
 # Start moves that change the verdict today (strict xfails, as KNOWN above). AndrewsTestSet seed 0
 # (`initial q5` at its extremum instead of `initial q1`) was one: q1 determined only to second
-# order, not a rewriting; the generator no longer makes such moves (agreement.KEPT_CONDITIONING) and
-# the compiler refuses such a start with a located error (tests/hard/test_start_determined_to_second_order.py).
+# order, not a rewriting; the generator no longer makes such moves (agreement.KEPT_CONDITIONING).
 KNOWN_STARTS: dict = {}
 
 
