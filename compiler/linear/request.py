@@ -13,6 +13,8 @@ import dataclasses
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Callable, Mapping, Sequence
 
+import numpy as np
+
 from compiler.errors import DyadError
 from compiler.linear.operating_point import initial_point, point_of_run, steady_point
 from compiler.linear.system import LinearSystem, linearize_at
@@ -145,7 +147,26 @@ def _linearize(compiled: LinearCompilation, request: Request, inputs: Sequence[s
     if request.steady:
         point = steady_point(point)
     system = linearize_at(point, list(inputs), list(outputs), labels)
+    _require_finite(system, compiled, overrides)
     return system.minimal_realization() if request.minimal else system
+
+
+def _require_finite(system: LinearSystem, compiled: LinearCompilation, overrides: Mapping[str, float]) -> None:
+    """A linearization with an infinite or nan entry (a mass of 1e-400, which is 0, divides a
+    force) is refused: with the located error a run from the start gives where it fails there (the
+    equation and the parameter whose value makes it singular), else naming the first entry."""
+    matrices = {"A": system.A, "B": system.B, "C": system.C, "D": system.D}
+    bad = [(name, index) for name, matrix in matrices.items() for index in zip(*np.nonzero(~np.isfinite(matrix)))]
+    if not bad:
+        return
+    _run(compiled, system.time + 1e-9 * max(1.0, abs(system.time)), overrides)     # raises where it fails
+    name, (row, column) = bad[0]
+    rows = system.outputs if name in "CD" else [f"der({state})" for state in system.states]
+    columns = system.inputs if name in "BD" else system.states
+    raise DyadError(f"the linearization at t = {system.time:g} is not finite: d {rows[row]} / d {columns[column]} "
+                    f"= {matrices[name][row, column]} ({len(bad)} entries of A, B, C, D not finite)",
+                    hint="a parameter value that makes a coefficient 0 or infinite (an underflow like 1e-400 "
+                         "is 0): check the parameters at this point")
 
 
 def _outputs(compiled: LinearCompilation, request: Request) -> tuple[list[str], list[str]]:

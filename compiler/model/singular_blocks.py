@@ -20,6 +20,8 @@ from compiler.errors import Span
 from compiler.model.domain_edges import domain_edge
 
 NEWTON_STEPS = 8
+# an algebraic unknown is in the vanishing direction where its share of the null vector is above this
+INVOLVED = 1e-6
 
 
 def singular_block(compilation, parameter_values: Mapping[str, float], env: dict[str, np.ndarray],
@@ -39,7 +41,7 @@ def singular_block(compilation, parameter_values: Mapping[str, float], env: dict
         return None
     origins = compilation.reduced.alg_origins
     origin = origins[trend.rows[0]] if trend.rows[0] < len(origins) else None
-    names = ", ".join(trend.unknowns[:3]) + (", ..." if len(trend.unknowns) > 3 else "")
+    names = _listed(block_unknowns(compilation.reduced, trend.unknowns, trend.rows))
     words = (f"the equations solved together for {names} become singular: the smallest singular value "
              f"of their Jacobian reaches 0 ({series[k]:.4g} at t = {at[k]:.6g}, "
              f"{series[k] / np.max(series):.3g} of its largest along the run)")
@@ -49,11 +51,35 @@ def singular_block(compilation, parameter_values: Mapping[str, float], env: dict
     return words, hint, getattr(origin, "span", None)
 
 
+def block_unknowns(reduced, involved: list[str], rows: list[int]) -> list[str]:
+    """The unknowns solved together with the algebraic unknowns `involved` in the algebraic
+    equations `rows`: those and every assignment on a cycle through them (a mass matrix torn down to der(v) also solves der(u),
+    assigned from der(v) inside the block), in the order the reduced system computes them."""
+    reads = {a.target: {s.name for s in a.expr.free_symbols} for a in reduced.assignments}
+    reaches_residual = {s.name for e in rows for s in reduced.alg[e].free_symbols}   # read by the rows, transitively
+    frontier = list(reaches_residual)
+    while frontier:
+        for name in reads.get(frontier.pop(), ()):
+            if name not in reaches_residual:
+                reaches_residual.add(name)
+                frontier.append(name)
+    from_unknowns = set(involved)                              # assignments that read the unknowns, transitively
+    for a in reduced.assignments:                              # in computation order: one pass suffices
+        if reads[a.target] & from_unknowns:
+            from_unknowns.add(a.target)
+    cycle = {a.target for a in reduced.assignments} & reaches_residual & from_unknowns
+    return list(involved) + [a.target for a in reduced.assignments if a.target in cycle]
+
+
+def _listed(names: list[str]) -> str:
+    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
+
+
 @dataclass(frozen=True)
 class BlockTrend:
     smallest: np.ndarray        # the smallest singular value at each time (nan where unsolved)
-    rows: list[int]             # algebraic equations, most involved in the vanishing pivot first
-    unknowns: list[str]         # algebraic unknowns, likewise
+    rows: list[int]             # algebraic equations in the vanishing pivot, most involved first
+    unknowns: list[str]         # algebraic unknowns in the vanishing direction, most involved first
 
 
 def smallest_pivots(model, parameter_values: Mapping[str, float], env: Mapping[str, np.ndarray],
@@ -87,8 +113,11 @@ def smallest_pivots(model, parameter_values: Mapping[str, float], env: Mapping[s
         vectors = (u[:, -1], vt[-1])
     if vectors is None:
         return None
-    rows = [int(i) for i in np.argsort(-np.abs(vectors[0]), kind="stable")]
-    unknowns = [model.algebraic_names[int(i)] for i in np.argsort(-np.abs(vectors[1]), kind="stable")]
+    shares = np.abs(vectors[0])
+    rows = [int(i) for i in np.argsort(-shares, kind="stable") if shares[i] > INVOLVED * shares.max()]
+    weights = np.abs(vectors[1])
+    unknowns = [model.algebraic_names[int(i)] for i in np.argsort(-weights, kind="stable")
+                if weights[i] > INVOLVED * weights.max()]
     return BlockTrend(smallest, rows, unknowns)
 
 

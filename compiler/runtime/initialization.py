@@ -131,6 +131,25 @@ def _polished(evaluate: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]], w
     return w, r, jac
 
 
+def conditioning(jac: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
+    """(smallest / largest singular value, left and right singular vectors of the smallest) of
+    the initialization Jacobian with its rows and columns equilibrated (units do not count; the
+    right vector is given back in the unknowns' own units): near
+    0 where the initial conditions determine some direction of the unknowns only to second order
+    or not at all (a position fixed by a coordinate at its extremum: Andrews' crank given by a
+    dependent angle, issue 25)."""
+    if not jac.size:
+        return 1.0, np.zeros(jac.shape[0]), np.zeros(jac.shape[1])
+    rows = _row_scales(jac)
+    scaled = np.where(np.isfinite(jac), jac, 0.0) / rows[:, None]
+    cols = np.sqrt(np.sum(scaled * scaled, axis=0))
+    cols = np.where(cols > 1e-300, cols, 1.0)
+    u, sigma, vt = np.linalg.svd(scaled / cols)
+    k = min(scaled.shape) - 1
+    ratio = float(sigma[k] / sigma[0]) if sigma[0] > 0 and scaled.shape[0] >= scaled.shape[1] else 0.0
+    return ratio, u[:, k], vt[k] / cols
+
+
 def _scaled_residual(r: np.ndarray, jac: np.ndarray, w: np.ndarray) -> np.ndarray:
     if not np.all(np.isfinite(r)):
         return np.where(np.isfinite(r), np.abs(r), math.inf)

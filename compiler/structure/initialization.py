@@ -21,7 +21,10 @@ _MAX_LISTED = 10
 def build_initial_problem(flat: FlatSystem, alias, states: list[str], algebraics: list[str],
                           alg: list[sympy.Expr], alg_origins: list[Origin | None],
                           assignments: list[Assignment], observables: list[Assignment],
-                          guesses: dict[str, float]) -> InitialProblem:
+                          guesses: dict[str, float], seeds: dict[str, float] | None = None) -> InitialProblem:
+    """The initialization problem (module doc). `guesses` are the declared start values and
+    guesses (what a free unknown is fixed at); `seeds`, where given, the values the solve starts
+    from (the guesses completed by the equations that give an unknown explicitly)."""
     observable_map = {sympy.Symbol(a.target): a.expr for a in observables}
     alias_map = {sympy.Symbol(k): v for k, v in alias.eliminated.items()}
     known = ({sympy.Symbol(n) for n in states} | {sympy.Symbol(n) for n in algebraics}
@@ -44,7 +47,8 @@ def build_initial_problem(flat: FlatSystem, alias, states: list[str], algebraics
     for name, value in chosen.items():
         residuals.append(sympy.Symbol(name) - sympy.Float(value))
         origins.append(_declaration(flat, name))
-    seeds = {n: guesses[n] for n in states + algebraics if n in guesses}
+    seeds = seeds if seeds is not None else guesses
+    seeds = {n: seeds[n] for n in states + algebraics if n in seeds}
     return InitialProblem(residuals, origins, seeds, chosen)
 
 

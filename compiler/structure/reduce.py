@@ -231,9 +231,12 @@ def _assemble(flat, alias, system, selection, causal: Causalization, report) -> 
                           "assignments": len(kept), "observables": len(observables)})
 
     guesses = flat.initial_values()
+    # The initialization starts an unknown without a value where an equation puts it given the
+    # others' values (`a = y^2` under `L = sqrt(x^2 + a)` at 0 made L 0 and `d / L` nan).
+    seeds = completed_point(system, flat, guesses)
     initial = build_initial_problem(flat, alias, states, algebraics, alg,
                                     [system.origins[e] for e in causal.residual_equations],
-                                    kept, observables, guesses)
+                                    kept, observables, guesses, seeds)
     # Every parameter of the index-1 equations, also one that cancels from all of the above
     # (`s * x = s * y` solved as x = y): the state-set monitor's pivots are derivatives of these
     # equations and may hold it (a Body's equations scaled by a parameter, issue 25).

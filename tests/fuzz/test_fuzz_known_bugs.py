@@ -54,11 +54,6 @@ def _assert_located(outcome, path: str, line: int, words: str):
     assert words in first, outcome.describe()
 
 
-def _bug(name: str, what: str):
-    """A strict xfail for a bug recorded in known_bugs.py under `name` (one is open: linearize_non_finite)."""
-    return pytest.mark.xfail(strict=True, reason=f"known bug {name}: {what}")
-
-
 def test_no_input_is_skipped_as_a_known_bug_any_more():
     assert known_bug(["check", "x" * 300, "a\x00"], "9^9^9 Real[1e308] 1:1000000000") is None
 
@@ -198,12 +193,14 @@ def test_a_capacitance_of_1e308_simulates(fuzz_base):
     assert outcome.status == 0, outcome.describe()
 
 
-@_bug("linearize_non_finite", "dyadc linearize with A holding inf: internal LinAlgError")
 def test_linearize_of_a_mass_that_underflows_to_zero_gives_a_clear_error(fuzz_base):
     """Found by fuzzing `dyadc linearize` (issue 25 item 4): m = 1e-400 is 0, der(v) = -k x / m
-    makes A infinite and numpy's eigenvalues raise. Expected: a located error at the parameter."""
+    made A infinite and numpy's eigenvalues raised an internal LinAlgError. Fixed 2026-11-28: a
+    linearization that is not finite is refused with the located error of a run from the start
+    (compiler/linear/request.py), the one `dyadc simulate` gives."""
     work = example_dir(fuzz_base)
     path = _oscillator_with(work, "parameter m::Real = 1.0", "parameter m::Real = 1e-400")
     outcome = run_in_process(["linearize", path], work)
     _assert_clear(outcome, HANG_LIMIT_S)
     assert outcome.status == 1 and is_located(outcome), outcome.describe()
+    assert f"{path}:9:3: error: the model is singular at the start: with `m` = 0" in outcome.stderr, outcome.describe()

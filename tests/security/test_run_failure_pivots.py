@@ -79,8 +79,8 @@ def test_a_vanishing_pivot_is_still_named(tmp_path):
 def test_a_mass_matrix_that_degenerates_is_named_by_its_vanishing_pivot(tmp_path):
     # coupled (c = 0.5), the mass matrix [[m1 - time, c cos(th)], [c cos(th), m2]] is singular
     # where (m1 - time) m2 = c^2 cos(th)^2, before m1 - time itself reaches 0: the pivot that
-    # vanishes is a Schur complement (in no flat equation); the block of der(v) and der(u) is named
-    # by its first unknown, der(v) since the start-point state choice (structure/start_point.py)
+    # vanishes is a Schur complement (in no flat equation); the block is named by all its unknowns:
+    # der(v), the one IDAS solves for, and der(u), assigned from it inside the block
     compiled(tmp_path, "(m1 - time)")
     with pytest.raises(DyadError) as caught:
         api.simulate(str(tmp_path / "Coupled.dyad"), 3.0)
@@ -90,6 +90,15 @@ def test_a_mass_matrix_that_degenerates_is_named_by_its_vanishing_pivot(tmp_path
         lo, hi = (middle, hi) if (2 - middle) - 0.25 * math.cos(middle) ** 2 > 0 else (lo, middle)
     assert caught.value.time_reached == pytest.approx(lo, abs=1e-3)
     message = caught.value.format()
-    assert "the equations solved together for der(v) become singular: the smallest singular value " \
+    assert "the equations solved together for der(v) and der(u) become singular: the smallest singular value " \
            "of their Jacobian reaches 0" in message, message
     assert "IDA_" in message.split("note: the solver reported:")[1]
+
+
+def test_a_block_is_named_by_its_torn_unknown_and_the_assignments_on_its_cycle(tmp_path):
+    from compiler.model.singular_blocks import block_unknowns
+    reduced = compiled(tmp_path, "(m1 - time)").reduced
+    assert reduced.algebraics == ["der(v)"]
+    assert block_unknowns(reduced, ["der(v)"], [0]) == ["der(v)", "der(u)"]
+    outside = [a.target for a in reduced.assignments if a.target != "der(u)"]
+    assert not set(outside) & set(block_unknowns(reduced, ["der(v)"], [0]))

@@ -15,7 +15,9 @@ from __future__ import annotations
 from typing import Sequence
 
 import numpy as np
+import sympy
 
+from compiler.model.flat import TIME
 from compiler.structure.differentiate import partial
 from compiler.structure.indexed import IndexedSystem
 
@@ -26,6 +28,8 @@ def alias_folds(system: IndexedSystem, rows: Sequence[int], order: Sequence[int]
     `order`, u's and w's, both plain numbers (no symbol, so at every point and parameter value),
     where w has no other entry on the level, |u_r| >= |w_r|, and u is not behind w in the order
     of preference (an earlier priority class, or the same class and |u_r| > |w_r| or u first).
+    A row written times a factor of parameters (`k * der(x) = k * vx`) folds as the row without
+    it (row_pair): the choice may not depend on how an equation is scaled.
     Each column and row is in one fold at most."""
     position = {v: j for j, v in enumerate(order)}
     entries_of = {v: [] for v in order}
@@ -41,7 +45,7 @@ def alias_folds(system: IndexedSystem, rows: Sequence[int], order: Sequence[int]
         for u, w in (entries, entries[::-1]):
             if entries_of[w] != [r] or u in used or w in used:
                 continue
-            u_r, w_r = plain_number(system, r, u), plain_number(system, r, w)
+            u_r, w_r = row_pair(system, r, u, w)
             if u_r is None or w_r is None or w_r == 0:
                 continue
             pu, pw = priority(u), priority(w)
@@ -63,6 +67,34 @@ def plain_number(system: IndexedSystem, e: int, v: int) -> float | None:
     except (TypeError, ValueError):
         return None
     return value if np.isfinite(value) else None
+
+
+def row_pair(system: IndexedSystem, e: int, u: int, w: int) -> tuple[float | None, float | None]:
+    """(d e / d u, d e / d w) as plain numbers, up to a common factor: the entries themselves where
+    both are plain numbers, else (their ratio, 1) where the ratio is a plain finite number and w's
+    entry depends on no unknown and not on time (a factor of parameters, which scales the whole
+    equation); (None, None) otherwise."""
+    u_r, w_r = plain_number(system, e, u), plain_number(system, e, w)
+    if u_r is not None and w_r is not None:
+        return u_r, w_r
+    ratio = common_factor_ratio(system, system.equations[e], u, w)
+    return (None, None) if ratio is None else (ratio, 1.0)
+
+
+def common_factor_ratio(system: IndexedSystem, residual, u: int, w: int) -> float | None:
+    """d residual / d u over d residual / d w where that is a plain finite number and the
+    denominator holds no unknown and not time (it may hold parameters); else None."""
+    du, dw = partial(residual, system.symbols[u]), partial(residual, system.symbols[w])
+    if dw == 0 or any(s in system.index_of or s == TIME for s in dw.free_symbols):
+        return None
+    ratio = sympy.cancel(du / dw)
+    if ratio.free_symbols:
+        return None
+    try:
+        value = float(ratio)
+    except (TypeError, ValueError):
+        return None
+    return value if np.isfinite(value) and value != 0 else None
 
 
 def unfolded(chosen_folded: Sequence[int], folds: Sequence[tuple[int, int, int]]) -> list[int]:

@@ -17,7 +17,7 @@ import sympy
 from compiler.runtime.selection_rules import folded_level, may_degrade, next_candidates, present_folds
 from compiler.structure.differentiate import partial
 from compiler.structure.reduced import Assignment
-from compiler.structure.state_selection.folds import alias_folds
+from compiler.structure.state_selection.folds import alias_folds, common_factor_ratio
 from compiler.structure.state_selection.layout import choice_priority, selection_levels
 
 if TYPE_CHECKING:
@@ -110,7 +110,8 @@ def stand_in_pairs(system) -> list[tuple[int, int]]:
 
 
 def _stand_in_pairs(system) -> list[tuple[int, int]]:
-    """(der(w), der(der(phi))) for every equation that says w = +-der(phi) (unit coefficients):
+    """(der(w), der(der(phi))) for every equation that says w = +-der(phi) (unit coefficients, up to
+    a factor of parameters that scales the equation: folds.common_factor_ratio):
     a scan of every equation, once per system instead of once per variant."""
     diff_to_var = system.diff_to_var()
     pairs = []
@@ -120,8 +121,8 @@ def _stand_in_pairs(system) -> list[tuple[int, int]]:
             continue
         a, b = (system.index_of[s] for s in symbols)
         for w, dphi in ((a, b), (b, a)):
-            if diff_to_var[dphi] >= 0 and abs(partial(residual, system.symbols[w])) == 1 \
-                    and abs(partial(residual, system.symbols[dphi])) == 1:
+            ratio = common_factor_ratio(system, residual, w, dphi) if diff_to_var[dphi] >= 0 else None
+            if ratio is not None and abs(ratio) == 1:
                 dw, ddphi = system.var_to_diff[w], system.var_to_diff[dphi]
                 if ddphi >= 0:
                     pairs.append((dw, ddphi))
