@@ -36,25 +36,37 @@ def add_unit_definitions(root, units: set[str]) -> None:
         ET.SubElement(unit, "BaseUnit", base)
 
 
-def _add_variable(parent, variable: FmuVariable, states: Mapping[str, int]) -> None:
-    element = ET.SubElement(parent, "ScalarVariable", {"name": variable.name, "valueReference": str(variable.reference)})
+def variable_element(parent, tag: str, variable: FmuVariable) -> ET.Element:
+    """`variable`'s element (FMI 2.0 ScalarVariable, FMI 3.0 Float64) with the attributes the two
+    versions share: name, value reference, description, causality, variability, initial."""
+    element = ET.SubElement(parent, tag, {"name": variable.name, "valueReference": str(variable.reference)})
     if variable.description:
         element.set("description", variable.description)
     element.set("causality", variable.causality)
     element.set("variability", variable.variability)
     if variable.initial:
         element.set("initial", variable.initial)
-    real = {}
+    return element
+
+
+def number_attributes(variable: FmuVariable, references: Mapping[str, int]) -> dict[str, str]:
+    """The attributes of `variable`'s number (FMI 2.0 Real, FMI 3.0 Float64): derivative (the
+    value reference of its state), start, unit, min, max."""
+    number = {}
     if variable.derivative_of:
-        real["derivative"] = str(states[variable.derivative_of])
+        number["derivative"] = str(references[variable.derivative_of])
     if variable.start is not None:
-        real["start"] = repr(float(variable.start))
+        number["start"] = repr(float(variable.start))
     if variable.unit:
-        real["unit"] = variable.unit
+        number["unit"] = variable.unit
     for key, value in (("min", variable.minimum), ("max", variable.maximum)):
         if value is not None:
-            real[key] = repr(float(value))
-    ET.SubElement(element, "Real", real)
+            number[key] = repr(float(value))
+    return number
+
+
+def _add_variable(parent, variable: FmuVariable, states: Mapping[str, int]) -> None:
+    ET.SubElement(variable_element(parent, "ScalarVariable", variable), "Real", number_attributes(variable, states))
 
 
 def model_description(model: CompiledModel, layout: FmuLayout, info: ModelInfo, compiled: Sequence[str]) -> str:

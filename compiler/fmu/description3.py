@@ -9,7 +9,7 @@ import datetime
 import xml.etree.ElementTree as ET
 from typing import Sequence
 
-from compiler.fmu.description import add_unit_definitions
+from compiler.fmu.description import add_unit_definitions, number_attributes, variable_element
 from compiler.fmu.layout import FmuLayout
 from compiler.fmu.variables import DEFAULT_TOLERANCE, FmuVariable, ModelInfo, fmu_structure, fmu_variables
 from compiler.runtime import CompiledModel
@@ -29,22 +29,7 @@ def _interface(root, info: ModelInfo) -> None:
 
 
 def _add_variable(parent, variable: FmuVariable, references: dict[str, int]) -> None:
-    element = ET.SubElement(parent, "Float64", {"name": variable.name, "valueReference": str(variable.reference)})
-    if variable.description:
-        element.set("description", variable.description)
-    element.set("causality", variable.causality)
-    element.set("variability", variable.variability)
-    if variable.initial:
-        element.set("initial", variable.initial)
-    if variable.unit:
-        element.set("unit", variable.unit)
-    for key, value in (("min", variable.minimum), ("max", variable.maximum)):
-        if value is not None:
-            element.set(key, repr(float(value)))
-    if variable.derivative_of:
-        element.set("derivative", str(references[variable.derivative_of]))
-    if variable.start is not None:
-        element.set("start", repr(float(variable.start)))
+    variable_element(parent, "Float64", variable).attrib.update(number_attributes(variable, references))
 
 
 def fmi3_variables(model: CompiledModel, layout: FmuLayout, info: ModelInfo) -> list[FmuVariable]:

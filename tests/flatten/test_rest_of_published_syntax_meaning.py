@@ -7,6 +7,7 @@ import pytest
 
 from compiler.errors import DyadError
 from compiler.model.flatten import flatten_model
+from tests.syntax.test_rest_of_published_syntax import SWITCH_VALUES as BOX_WITH_SWITCH_VALUES
 
 
 def test_relative_usings_name_definitions_from_the_files_package(sources):
@@ -205,33 +206,12 @@ def test_path_declarations_with_defaults_add_no_unknowns(sources):
     assert sorted(v.name for v in flat.variables) == ["pipe.a.m", "pipe.a.p", "pipe.b.m", "pipe.b.p"]
 
 
-SWITCH_VALUES = """
-    enum Gear = Low | High | Top
-    component Box
-      structural parameter gear::Gear = Gear.High()
-      parameter k::Real = switch gear
-        case Low
-          1.5
-        end
-        case Gear.High(), Top
-          2.5
-        end
-      end
-      variable y::Real
-    relations
-      y = switch gear
-        case Low
-          k
-        end
-        else
-          3 * k
-        end
-      end
-    end
-    component Rig
-      low = Box(gear = Gear.Low())
-      high = Box()
-    end
+# the Box of the syntax tests (parsed and printed there), here instantiated twice
+SWITCH_VALUES = BOX_WITH_SWITCH_VALUES + """
+component Rig
+  low = Box(gear = Gear.Low())
+  high = Box()
+end
 """
 
 
@@ -243,10 +223,7 @@ def test_a_switch_value_is_the_value_of_the_case_its_subject_selects(sources):
 
 def test_a_switch_value_without_the_selected_case_or_else_is_a_located_error(sources):
     err = sources.error(SWITCH_VALUES.replace("Box(gear = Gear.Low())", "Box(gear = Gear.Top())")
-                        .replace("""        else
-          3 * k
-        end
-""", ""), "Rig", marker="y = switch gear")
+                        .replace("    else\n      3 * k\n    end\n", ""), "Rig", marker="y = switch gear")
     assert err.message == "no case of this `switch` names the value of its subject, and it has no `else`"
     assert err.span.column == 7
 
