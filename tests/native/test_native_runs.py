@@ -82,29 +82,6 @@ relations
     assert event["direction"] == ("rising" if slope > 0 else "falling")
 
 
-def test_a_relation_true_only_between_two_samples_is_found(tmp_path):
-    """der(w) exceeds 0.5 for 1.7 ms around t = 5.02 in a 10 s run: IDAS's root finding at every
-    step sees both crossings (CasADi's IDAS sampled at 200 checks per call does not: y stays 0)."""
-    model = c_model(tmp_path, "Bump", """
-  parameter center::Real = 5.02
-  parameter width::Real = 0.001
-  variable u::Real
-  variable w::Real
-  variable y::Real
-relations
-  initial u = 0
-  initial w = 0
-  initial y = 0
-  der(u) = 1
-  der(w) = exp(-((u - center) / width)^2)
-  der(y) = if der(w) > 0.5 then 1.0 else 0.0""")
-    result = native(model, 10.0, rtol=1e-8, atol=1e-10, points=11, max_step=5e-4)
-    half = 0.001 * math.sqrt(math.log(2))
-    assert result["y"][-1] == pytest.approx(2 * half, abs=1e-10)
-    assert [(e["direction"], round(e["time"], 9)) for e in result.events] == \
-        [("rising", round(5.02 - half, 9)), ("falling", round(5.02 + half, 9))]
-
-
 def test_a_bound_left_is_found_where_it_is_left():
     """x = 1 - t with min = 0: left at t = 1 (plus the bound's slack), warned of, run on."""
     model = compile_model(systems.draining(), codegen="c")
