@@ -131,9 +131,9 @@ def test_a_bound_left_is_warned_of_once_where_it_is_crossed_and_the_run_goes_on(
 
 def test_a_condition_on_julias_rem_of_time_is_located_not_stepped_over(tmp_path, each_codegen):
     # `%` is Julia's rem (with the sign of its argument): no closed form for its times here, so the
-    # driver watches the condition and locates each crossing. The last one is at the stop, t = 5:
-    # IDAS's root finding (c: native) finds it at its tstop; CasADi's IDAS (vm) finds crossings
-    # between check times, and none lies past the stop
+    # driver watches the condition and locates each crossing: up through 1 at t = 1, 3, down (rem
+    # jumps back to 0) at t = 2, 4. At the stop, t = 5, rem reaches 1 and the run ends: no
+    # crossing (the native driver's IDAS reported a root at its tstop there, issue 32)
     spec = model_file(tmp_path, "HalfOn", """
   variable x::Real
 relations
@@ -141,8 +141,25 @@ relations
   der(x) = if time % 2.0 < 1.0 then 1.0 else 0.0""")
     result = api.simulate(spec, 5.0, rtol=1e-8, atol=1e-10, points=6)
     np.testing.assert_allclose(result["x"], [0, 1, 1, 2, 2, 3], atol=1e-7)
-    located = [round(e["time"], 6) for e in result.events if "<" in e["event"]]
-    assert located == ([1.0, 2.0, 3.0, 4.0, 5.0] if each_codegen == "c" else [1.0, 2.0, 3.0, 4.0])
+    located = [(round(e["time"], 6), e["direction"]) for e in result.events if "<" in e["event"]]
+    assert located == [(1.0, "rising"), (2.0, "falling"), (3.0, "rising"), (4.0, "falling")]
+
+
+def test_the_floor_inside_rem_jumps_where_rem_does_natively(tmp_path, each_codegen):
+    """floor(0.5 |t|) (rem's quotient) jumps at t = 2 and 4, the instants rem's relation flips:
+    the native driver lists both rows there (IDAS reports the two roots at one instant). CasADi's
+    sampled path lists only the relation there (it locates one row per check interval and the
+    other has crossed by the located point): an omission of its own, not asserted here."""
+    if each_codegen != "c":
+        pytest.skip("CasADi's sampled path lists one of two crossings at one instant (issue 32)")
+    spec = model_file(tmp_path, "HalfOn", """
+  variable x::Real
+relations
+  initial x = 0
+  der(x) = if time % 2.0 < 1.0 then 1.0 else 0.0""")
+    result = api.simulate(spec, 5.0, rtol=1e-8, atol=1e-10, points=6)
+    floors = [(round(e["time"], 6), e["direction"]) for e in result.events if e["event"].startswith("floor")]
+    assert floors == [(0.0, "rising"), (2.0, "falling"), (4.0, "rising")]
 
 
 @pytest.mark.parametrize("relation, slope", [("x > 0", 1), ("x < 0", -1)])
