@@ -68,6 +68,8 @@ class Stop:
     retry: Call | None = None
     horizon: float | None = None        # reached: how far the next call should reach (predicted)
     direction: int = 0                  # a crossing: +1 its watched value rose through zero, -1 fell
+    # an event: the other event rows that crossed at the same instant, (row, what, direction)
+    together: tuple = ()
 
 
 class Integrator(Protocol):
