@@ -99,6 +99,10 @@ class NativeIdas:
                 self.at = None
                 return Stop("state set", t, x, z, samples, self.level_rows[level], level)
         self._tally()
+        if flag == library.ROOT and call.last and t >= call.reach:
+            # a watched row on its zero at the run's stop (IDAS reports a root at tstop where the
+            # row lands on zero there, time % 2 < 1 at t = 5): the run ends with no crossing
+            flag = library.REACHED
         if flag == library.REACHED:
             self.at = (call.reach, x, z, call.p, active)
             return Stop(REACHED, call.reach, x, z, samples)

@@ -31,7 +31,8 @@ class Call:
     """One call: from (t0, x0, z0) with parameters p (held over the call) to `reach` at the
     latest (a time event, the stop, or less), with the states at the `outputs` times (the output
     grid in (t0, reach]). It ends early at the first crossing of a watched row other than
-    `ignored` ones. After every point it passes, the states are checked against `scale`
+    `ignored` ones (a row that reaches its zero at the run's stop, `last`, has no crossing: the
+    relation has no value after it). After every point it passes, the states are checked against `scale`
     (checks.check_divergence). `horizon`, `step0`, `checks` and `retry` serve an integrator that
     finds crossings after a call (Integrator.locates_crossings False), and are None otherwise."""
     t0: float
@@ -46,6 +47,7 @@ class Call:
     step0: float | None = None          # the first step; None: the integrator's own rule
     checks: tuple[float, ...] | None = None   # where watched rows are sampled; None: its own
     retry: bool = False                 # repeats a failed call, cut before the failure
+    last: bool = False                  # reach is the run's stop: nothing comes after it
 
 
 @dataclass
@@ -66,6 +68,8 @@ class Stop:
     retry: Call | None = None
     horizon: float | None = None        # reached: how far the next call should reach (predicted)
     direction: int = 0                  # a crossing: +1 its watched value rose through zero, -1 fell
+    # an event: the other event rows that crossed at the same instant, (row, what, direction)
+    together: tuple = ()
 
 
 class Integrator(Protocol):

@@ -48,7 +48,8 @@ def next_call(run: RunState, integrator: Integrator, end: float) -> Call:
     reach = retry.reach if retry is not None else call_reach(run, integrator, end)
     return Call(run.t, run.x, run.z, run.p, reach, output_times(run.grid, run.k, reach), run.scale,
                 ignored, horizon=run.horizon, step0=None if retry is None else retry.step0,
-                checks=None if retry is None else retry.checks, retry=retry is not None)
+                checks=None if retry is None else retry.checks, retry=retry is not None,
+                last=reach >= run.options.stop)
 
 
 def call_reach(run: RunState, integrator: Integrator, end: float) -> float:

@@ -11,11 +11,12 @@ import numpy as np
 
 from .casadi_idas import IdasIntegrator
 from .checks import check_divergence
-from .crossings import before_failure, first_crossing, locate, next_horizon, watched_values
+from .crossings import before_failure, first_crossing, next_horizon, watched_values
 from .errors import SimulationFailed
 from .integrator import FAILED, REACHED, UNCONFIRMED, Call, Stop, Tally
 from .model import CompiledModel
 from .segments import first_step
+from .together import earliest_crossing
 from .watches import Watch
 
 CHECKS_PER_SEGMENT = 200
@@ -99,8 +100,9 @@ class SampledIdas:
             return Stop(kind, t_right, segment.xs[:, right], segment.zs[:, right], samples, row, what)
         left = times.index(t_left) if t_left in times else -1
         x_left, z_left = (segment.xs[:, left], segment.zs[:, left]) if left >= 0 else (call.x0, call.z0)
-        t_cross, x_cross, z_cross, crossed = locate(self.tally, self.idas, self.watch, row, t_left,
-                                                    t_right, x_left, z_left, call.p)
+        t_cross, x_cross, z_cross, crossed, row, together = earliest_crossing(
+            self.tally, self.idas, self.watch, row, t_left, t_right, x_left, z_left, call.p, call.ignored)
+        kind, what = self.watch.labels[row]
         # outputs between the check before the crossing and the crossing were computed past a
         # kink the call stepped over: compute them again up to the crossing
         samples.append(self._refill(call, t_left, t_cross, x_left, z_left))
@@ -110,7 +112,8 @@ class SampledIdas:
             return Stop(UNCONFIRMED, t_cross, x_cross, z_cross, samples)
         # rising: the watched value (a condition's left side minus its right) went from below zero
         before = float(np.asarray(self.watch.function(x_left, z_left, call.p, t_left))[row, 0])
-        return Stop(kind, t_cross, x_cross, z_cross, samples, row, what, direction=1 if before <= 0 else -1)
+        return Stop(kind, t_cross, x_cross, z_cross, samples, row, what, direction=1 if before <= 0 else -1,
+                    together=tuple((i, self.watch.labels[i][1], d) for i, d in together))
 
     def _refill(self, call: Call, t_a: float, t_b: float, x_a, z_a) -> tuple:
         """The output times in (t_a, t_b] and the states there, integrated from the point at t_a."""

@@ -100,8 +100,10 @@ def on_bound(run: RunState, call: Call, stop: Stop) -> None:
 def on_event(run: RunState, call: Call, stop: Stop) -> None:
     """A state event: logged; the run restarts there (its relations settle at the next call)."""
     crossing_values(run, stop)
-    run.events.append({"time": float(stop.t), "event": stop.what,
-                       "direction": "rising" if stop.direction > 0 else "falling"})
+    for _, what, direction in sorted(((stop.row, stop.what, stop.direction),) + stop.together,
+                                     key=lambda crossing: crossing[0]):
+        run.events.append({"time": float(stop.t), "event": what,
+                           "direction": "rising" if direction > 0 else "falling"})
     stuck = sliding(run.model, run.events)        # a sliding mode (relations.py)
     if stuck is not None:
         raise stuck

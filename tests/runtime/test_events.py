@@ -131,9 +131,9 @@ def test_a_bound_left_is_warned_of_once_where_it_is_crossed_and_the_run_goes_on(
 
 def test_a_condition_on_julias_rem_of_time_is_located_not_stepped_over(tmp_path, each_codegen):
     # `%` is Julia's rem (with the sign of its argument): no closed form for its times here, so the
-    # driver watches the condition and locates each crossing. The last one is at the stop, t = 5:
-    # IDAS's root finding (c: native) finds it at its tstop; CasADi's IDAS (vm) finds crossings
-    # between check times, and none lies past the stop
+    # driver watches the condition and locates each crossing: up through 1 at t = 1, 3, down (rem
+    # jumps back to 0) at t = 2, 4. At the stop, t = 5, rem reaches 1 and the run ends: no
+    # crossing (the native driver's IDAS reported a root at its tstop there, issue 32)
     spec = model_file(tmp_path, "HalfOn", """
   variable x::Real
 relations
@@ -141,8 +141,47 @@ relations
   der(x) = if time % 2.0 < 1.0 then 1.0 else 0.0""")
     result = api.simulate(spec, 5.0, rtol=1e-8, atol=1e-10, points=6)
     np.testing.assert_allclose(result["x"], [0, 1, 1, 2, 2, 3], atol=1e-7)
-    located = [round(e["time"], 6) for e in result.events if "<" in e["event"]]
-    assert located == ([1.0, 2.0, 3.0, 4.0, 5.0] if each_codegen == "c" else [1.0, 2.0, 3.0, 4.0])
+    located = [(round(e["time"], 6), e["direction"]) for e in result.events if "<" in e["event"]]
+    assert located == [(1.0, "rising"), (2.0, "falling"), (3.0, "rising"), (4.0, "falling")]
+
+
+def test_the_floor_inside_rem_jumps_where_rem_flips(tmp_path):
+    """floor(0.5 |t|) (rem's quotient) jumps at t = 2 and 4, the instants rem's relation flips:
+    both rows are listed there, in row order (CasADi's sampled path listed only the relation: it
+    located one row per check interval, and the other had crossed by the located point)."""
+    spec = model_file(tmp_path, "HalfOn", """
+  variable x::Real
+relations
+  initial x = 0
+  der(x) = if time % 2.0 < 1.0 then 1.0 else 0.0""")
+    result = api.simulate(spec, 5.0, rtol=1e-8, atol=1e-10, points=6)
+    listed = [(round(e["time"], 6), e["event"].split("(")[0], e["direction"]) for e in result.events]
+    assert listed == [(0.0, "floor", "rising"), (1.0, "time - 2.0*floor", "rising"),
+                      (2.0, "time - 2.0*floor", "falling"), (2.0, "floor", "falling"),
+                      (3.0, "time - 2.0*floor", "rising"), (4.0, "time - 2.0*floor", "falling"),
+                      (4.0, "floor", "rising")]
+
+
+def test_two_relations_crossing_between_the_same_checks_are_both_listed(tmp_path):
+    """`x < 0.302` crosses 0.1 ms before `x > 0.3021`, the first watched row, between the same two
+    check times of CasADi's sampled path: the earlier is located first and both are listed once,
+    and b switches at its own crossing (it switched at the later one's, unlisted, issue 32)."""
+    spec = model_file(tmp_path, "Two", """
+  variable x::Real
+  variable a::Real
+  variable b::Real
+relations
+  initial x = 0
+  initial a = 0
+  initial b = 0
+  der(x) = 1.0
+  der(a) = if x > 0.3021 then 1.0 else 0.0
+  der(b) = if x < 0.302 then 0.0 else 1.0""")
+    result = api.simulate(spec, 1.0, rtol=1e-8, atol=1e-10, points=3)
+    listed = [(round(e["time"], 6), e["event"], e["direction"]) for e in result.events]
+    assert listed == [(0.302, "x < 0.302", "rising"), (0.3021, "x > 0.3021", "rising")]
+    assert result["a"][-1] == pytest.approx(1.0 - 0.3021, abs=1e-7)
+    assert result["b"][-1] == pytest.approx(1.0 - 0.302, abs=1e-7)
 
 
 @pytest.mark.parametrize("relation, slope", [("x > 0", 1), ("x < 0", -1)])
