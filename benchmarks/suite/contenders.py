@@ -26,8 +26,9 @@ class Failed(Exception):
 
 
 class DyadcContender:
-    """`integrator`: None for CasADi's IDAS (the default path), or what makes the run's
-    integrators (compiler.native.make_integrator for the native IDAS driver, named `native`)."""
+    """`integrator`: None for the default path (the native IDAS driver where it can run),
+    "casadi" or "native", or what makes the run's integrators (compiler.native.make_integrator,
+    named `native`)."""
     def __init__(self, problem: Problem, codegen: str, integrator=None, native: str = ""):
         self.problem = problem
         self.codegen = codegen

@@ -42,8 +42,8 @@ def scipy_contenders(problem: Problem, extra: Path | None = None) -> list[ScipyC
 def dyadc_contenders(problem: Problem) -> tuple[list[DyadcContender], list[str]]:
     """The native path first, then CasADi's IDAS on C and on the VM; why any could not be made."""
     made, notes = [], []
-    for codegen, integrator, label in (("c", make_integrator, "native IDAS"), ("c", None, "CasADi IDAS"),
-                                       ("vm", None, "CasADi IDAS")):
+    for codegen, integrator, label in (("c", make_integrator, "native IDAS"), ("c", "casadi", "CasADi IDAS"),
+                                       ("vm", "casadi", "CasADi IDAS")):
         try:
             made.append(DyadcContender(problem, codegen, integrator, label))
         except Failed as err:
