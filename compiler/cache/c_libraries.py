@@ -102,17 +102,8 @@ def fetch_or_build(folder: Path, key: str, build: Callable[[Path], Path]) -> tup
         if found is not None:
             return found, False
         remove_leftovers(folder, key)
-        scratch = Path(tempfile.mkdtemp(prefix=f"{BUILD_PREFIX}{key}-", dir=folder))
+        built, scratch = _build_in_new_folder(folder, key, build)
         try:
-            try:
-                built = build(scratch)
-            except (OSError, RuntimeError):
-                if scratch.is_dir():
-                    raise
-                # The build folder went away under the build (nothing of ours removes it while
-                # the entry's lock is held; a user's tmp cleaner can): build once more.
-                scratch = Path(tempfile.mkdtemp(prefix=f"{BUILD_PREFIX}{key}-", dir=folder))
-                built = build(scratch)
             library = library_path(folder, key)
             record = {"format": ENTRY_FORMAT, "size": built.stat().st_size, "sha256": _sha256(built)}
             built.chmod(0o700)                    # private, like everything in the cache
@@ -121,6 +112,32 @@ def fetch_or_build(folder: Path, key: str, build: Callable[[Path], Path]) -> tup
         finally:
             shutil.rmtree(scratch, ignore_errors=True)
     return library, True
+
+
+def _build_in_new_folder(folder: Path, key: str, build: Callable[[Path], Path]) -> tuple[Path, Path]:
+    """(library, its build folder): `build` run in a new build folder; run once more, the folders
+    made again, when its folder or the whole cache folder went away under it (nothing of ours
+    removes either while the entry's lock is held; seen about once per full suite run, remover not
+    found; a user's tmp cleaner can)."""
+    def attempt() -> tuple[Path, Path] | None:
+        private_folder(folder)
+        scratch = Path(tempfile.mkdtemp(prefix=f"{BUILD_PREFIX}{key}-", dir=folder))
+        try:
+            return build(scratch), scratch
+        except (OSError, RuntimeError):
+            gone = not scratch.is_dir()
+            shutil.rmtree(scratch, ignore_errors=True)
+            if not gone:
+                raise
+            return None
+
+    first = attempt()
+    if first is not None:
+        return first
+    second = attempt()
+    if second is None:
+        raise FileNotFoundError(f"the build folder of {key} in {folder} went away twice under its build")
+    return second
 
 
 def discard(folder: Path, key: str) -> None:

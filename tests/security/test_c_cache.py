@@ -248,3 +248,20 @@ def test_the_compiler_runs_on_absolute_paths_and_the_library_does_not_depend_on_
     assert [lib.parent for lib in libraries] == [tmp_path / "one", tmp_path / "two-with-a-longer-name"]
     assert libraries[0].read_bytes() == libraries[1].read_bytes()
     assert sorted(p.name for p in elsewhere.iterdir()) == []
+
+
+def test_a_build_whose_whole_cache_folder_is_removed_under_it_is_built_again(tmp_path):
+    import shutil
+    cache, attempts = tmp_path / "cache", []
+
+    def build(scratch: Path) -> Path:
+        attempts.append(scratch)
+        if len(attempts) == 1:                     # the cache folder itself goes, lock files and all
+            shutil.rmtree(cache)
+            raise FileNotFoundError(2, "No such file or directory", str(scratch / "dyad.o"))
+        (scratch / "lib.so").write_bytes(b"again")
+        return scratch / "lib.so"
+
+    library, built = c_cache.fetch_or_build(cache, "ee" * 8, build)
+    assert built and len(attempts) == 2
+    assert library.read_bytes() == b"again" and c_cache.valid_entry(cache, "ee" * 8) == library
