@@ -63,25 +63,6 @@ def test_the_same_numbers_as_casadi_idas(reduced, stop, rtol):
     assert np.all(np.abs(ours.values - theirs.values) <= 2e-5 * scale + 1e-7)
 
 
-@pytest.mark.parametrize("relation, slope", [("x > 0", 1), ("x < 0", -1)])
-def test_a_relation_that_starts_on_its_zero_and_leaves_it(tmp_path, relation, slope):
-    """x = 0 at the start makes `relation` false; it is true from the first instant on, in
-    either direction: y = t."""
-    model = c_model(tmp_path, "Leaves", f"""
-  variable x::Real
-  variable y::Real
-relations
-  initial x = 0
-  initial y = 0
-  der(x) = {slope}
-  der(y) = if {relation} then 1.0 else 0.0""")
-    result = native(model, 2.0, rtol=1e-8, atol=1e-10, points=5)
-    assert result["y"][-1] == pytest.approx(2.0, abs=1e-9)
-    ((event,),) = [result.events]
-    assert event["event"] == relation and event["time"] < 1e-12
-    assert event["direction"] == ("rising" if slope > 0 else "falling")
-
-
 def test_a_bound_left_is_found_where_it_is_left():
     """x = 1 - t with min = 0: left at t = 1 (plus the bound's slack), warned of, run on."""
     model = compile_model(systems.draining(), codegen="c")
