@@ -4,7 +4,6 @@ by IDAS's root finding (with direction) where sampling misses them, and CasADi's
 warning where the native driver cannot run a model."""
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np
