@@ -37,6 +37,30 @@ NOT_APPLICABLE = {"calc_ic", "init_xdot", "disable_internal_warnings", "show_eva
 RETRY_REACH = 0.9
 
 
+# The smallest absolute tolerance (times the nominal value) of an algebraic unknown out of IDAS's
+# error test (suppress_algebraic), where its tolerance only weighs IDAS's Newton convergence test.
+# Below it the test asks for less than the unknown's round-off: in the Test Set's transistor
+# amplifier after a state-set switch (rtol 5e-14 = ROUNDOFF_RTOL, atol alike) der(y7) is computed
+# from node voltages rounded to 1e-16 relative through C5 = 5e-6, and the Newton corrections
+# stalled at 5-40 weights (0.33 asked) on steps of 3e-6 s: IDA_CONV_FAIL at t = 0.0131 (rtol
+# 5e-13, 1.1e-12, 1.25e-12 over 0.02 s; 1e-12 passed), and at t = 0.0226 over 0.2 s at 1e-12.
+# CasADi's IDAS passed on the same state set (why is not isolated). With the floor all
+# pass, the node voltages to the same digits as CasADi's (docs/numerics.md, "Tight tolerances
+# on both paths"). The states keep the user's atol, and every unknown keeps rtol * |value|.
+NEWTON_ATOL_FLOOR = 1e-12
+
+
+def newton_atol(model: CompiledModel, atol: np.ndarray) -> np.ndarray:
+    """`atol` (states then algebraic unknowns) with each algebraic unknown's raised to
+    NEWTON_ATOL_FLOOR times its nominal value, for a run whose algebraic unknowns are out of the
+    error test."""
+    nx = len(model.state_names)
+    floor = np.array([NEWTON_ATOL_FLOOR * abs(model.nominals.get(name, 1.0)) for name in model.algebraic_names])
+    raised = np.array(atol, dtype=float)
+    raised[nx:] = np.maximum(raised[nx:], floor)
+    return raised
+
+
 def unhonoured_options(options: Mapping) -> list[str]:
     """The IDAS options the native driver cannot honour (their run goes to CasADi's IDAS)."""
     return sorted(set(options) - HONOURED - NOT_APPLICABLE)
@@ -55,6 +79,8 @@ class NativeIdas:
         nrows = 0 if watch is None else len(watch.labels)
         self.driver = library.Driver(model.native_library, nx, nz, npar, nrows)
         atol = np.asarray(options.get("abstolv", [options.get("abstol", 1e-8)] * (nx + nz)), dtype=float)
+        if options.get("suppress_algebraic", False):
+            atol = newton_atol(model, atol)
         directions = root_directions(watch) if watch is not None else np.zeros(0, dtype=int)
         sides = zero_sides(watch) if watch is not None else np.zeros(0, dtype=int)
         proposes = np.zeros(nrows, dtype=int)

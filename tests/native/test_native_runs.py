@@ -188,3 +188,14 @@ def test_a_state_set_chosen_among_several_rows_switches_natively():
     assert len(result.stats["state_switches"]) == 38
     computed = np.array([result[f"y{i}"][-1] for i in range(1, 9)])
     assert np.all(np.abs(computed / TRANSAMP_REFERENCE - 1) < 1e-6)
+
+
+def test_the_transistor_amplifier_runs_natively_below_rtol_1e_11():
+    """After its first state-set switch (t = 0.0118) the run integrates at rtol 5e-14, where
+    der(y7)'s round-off exceeded the Newton test's weight: IDA_CONV_FAIL at t = 0.0131 at
+    rtol 1.1e-12 (and 5e-13, 1.25e-12) before the algebraic unknowns' Newton weights had a floor
+    (integrator.NEWTON_ATOL_FLOOR)."""
+    from tests.hard.test_test_set_formulations import TRANSAMP
+    model = compile_c(api.compile(str(TRANSAMP)).model)
+    result = native(model, 0.02, points=41, rtol=1.1e-12, atol=1.1e-12)
+    assert result.time[-1] == 0.02 and len(result.stats["state_switches"]) == 2
