@@ -56,6 +56,36 @@ CLOCK = """
 """
 
 
+def test_a_renamed_using_names_the_definition_by_its_new_name_only(sources):
+    """Julia's `using P: a as b`: `b` is P's `a` in this file (also as the head of a dotted
+    name); the old name `a` is not brought in."""
+    sources.write("Rig/Parts/Spring.dyad", """
+        component Spring
+          parameter k::Real = 3
+          variable f::Real
+        relations
+          f = k
+        end
+    """)
+    sources.write("Bench.dyad", """
+        using Rig: Parts as P
+        using Rig.Parts: Spring as Coil
+        component Bench
+          a = Coil(k = 4)
+          b = P.Spring()
+        end
+        component Old
+          c = Spring()
+        end
+    """)
+    flat = flatten_model("Bench", [str(sources.root)])
+    assert {p.name: p.value for p in flat.parameters if p.name.endswith(".k")} == {"a.k": 4, "b.k": 3}
+    with pytest.raises(DyadError) as caught:
+        flatten_model("Old", [str(sources.root)])
+    assert "unknown component type `Spring`" in caught.value.message
+    assert (caught.value.span.line, caught.value.span.column) == (8, 3)
+
+
 def test_a_declared_time_shadows_the_independent_variable_inside_its_component(sources):
     path = sources.write("Clock.dyad", CLOCK)
     from compiler.api import simulate
