@@ -278,3 +278,46 @@ def test_an_if_expression_inside_a_case_of_a_switch_value_is_the_cases_value(sou
     """)
     (equation,) = flat.equations
     assert str(equation.residual) == "y - Piecewise((3, wet > 1/2), (4, True))"
+
+
+def test_documented_enums_compare_and_a_switch_reads_a_subcomponents_enum(sources):
+    """The enum forms of Dyad's documented libraries: a docstring before `enum X = | A | B`, a
+    member named `None`, `!=` between enum values in an if-expression, and a switch value whose
+    subject is a structural enum parameter of a subcomponent (`switch b.states`)."""
+    text = """
+        "Which orientation states a body keeps."
+        enum Orientation = | None | Euler | Quaternion
+        "The frame nearer the root."
+        enum Rooted
+          | FrameA
+          | FrameB
+        end
+        component Body
+          structural parameter states::Orientation = Orientation.None()
+          structural parameter rooted::Rooted = Rooted.FrameA()
+          variable y::Real
+        relations
+          switch states
+            case None
+              y = 0
+            end
+            case Euler, Quaternion
+              y = if rooted != Rooted.FrameA() then 2 else 1
+            end
+          end
+        end
+        component Rig
+          plain = Body()
+          b = Body(states = Orientation.Euler(), rooted = Rooted.FrameB())
+          variable z::Real = switch b.states
+            case None
+              0
+            end
+            else
+              b.y
+            end
+          end
+        end
+    """
+    flat = sources.flatten(text, "Rig")
+    assert {str(e.residual) for e in flat.equations} == {"plain.y", "b.y - 2", "-b.y + z"}
