@@ -159,3 +159,24 @@ def test_an_unsupported_or_unknown_extrapolation_is_located(tmp_path, member, me
         flatten_model(f"{path}:Bad", [])
     assert info.value.message == message
     assert (info.value.span.line, info.value.span.column) == (SOURCE.count("\n") + 3, 95)
+
+
+def test_the_extrapolation_may_be_a_parameter_given_by_the_user_of_the_component(tmp_path):
+    """As Tables.Interpolation declares it: a parameter holding the ExtrapolationType, with a
+    default, overridden where the component is used. The chord through (0, 0), (1, 2) at x = 3:
+    held 2 by default, 6 along the line when given Linear."""
+    path = project(tmp_path, """
+    component Table
+      structural parameter extrapolation_type::Native = ExtrapolationType.Constant()
+      final parameter f::Interpolant = dataset_interpolation(LinearInterpolation, [0, 2], [0, 1], extrapolation_type)
+      variable a::Real
+    relations
+      a = f(2 + time)
+    end
+    component Tables
+      held = Table()
+      along = Table(extrapolation_type = ExtrapolationType.Linear())
+    end
+    """)
+    result = simulate(f"{path}:Tables", stop=1.0, points=3)
+    assert (result["held.a"][-1], result["along.a"][-1]) == pytest.approx((2.0, 6.0), abs=1e-9)
