@@ -47,24 +47,27 @@ def explained_sections(results: list[dict], normalise: Callable[[str], str]) -> 
     lines = ["", "## Components whose published source is inconsistent (explained)", "",
              "Reviewed by hand against dyadc's diagnosis and Dyad's documentation; the culprit is "
              "in our words, at the published line at fault (a component whose fault lies in a "
-             "part it uses names that part's line).", "",
-             "| component | file | published line at fault | culprit | dyadc's first error line "
-             "(normalised) |",
-             "| --- | --- | --- | --- | --- |"]
+             "part it uses names that part's line), beside what Dyad's documentation says about "
+             "that line.", "",
+             "| component | file | published line at fault | culprit | Dyad's documentation | "
+             "dyadc's first error line (normalised) |",
+             "| --- | --- | --- | --- | --- | --- |"]
     for path, component, entry in explained(results):
         lines.append(f"| {component['name']} | {path} | {entry.at} (`{_cell(entry.shows)}`) | "
-                     f"{_cell(entry.culprit)} | {_cell(normalise(component['reason']))} |")
+                     f"{_cell(entry.culprit)} | {_cell(entry.documented)} | "
+                     f"{_cell(normalise(component['reason']))} |")
     lines += ["", "## Runs not simulated because their component's published source is "
               "inconsistent (explained)", "",
-              "| run | file | published line at fault | culprit | dyadc's first error line "
-              "(normalised) |",
-              "| --- | --- | --- | --- | --- |"]
+              "| run | file | published line at fault | culprit | Dyad's documentation | "
+              "dyadc's first error line (normalised) |",
+              "| --- | --- | --- | --- | --- | --- |"]
     for r in results:
         for run in r["runs"]:
             entry = run_explained(r["file"], run) if r["parsed"] else None
             if entry:
                 lines.append(f"| {run['name']} | {r['file']} | {entry.at} (`{_cell(entry.shows)}`) "
-                             f"| {_cell(entry.culprit)} | {_cell(normalise(run['reason']))} |")
+                             f"| {_cell(entry.culprit)} | {_cell(entry.documented)} "
+                             f"| {_cell(normalise(run['reason']))} |")
     lines += ["", "## Published test values shown wrong by an independent calculation (explained)",
               "", "Reviewed entries of benchmarks/compat_explained_values.py, each recomputed by "
               "tests/compat/; the report sees a case's first mismatch.", "",

@@ -12,7 +12,8 @@ piecewise polynomial: pieces that are polynomials in (x - origin), switched at b
 
 Outside the samples the first and last pieces continue (DataInterpolations' `Extension`; Dyad's
 own default refuses such arguments with an error, which a solver stepping past the last sample
-would hit). The derivative of a piecewise polynomial is one again, so the derivatives that IDAS's
+would hit), unless an extrapolation is asked for (`extrapolated`: `Constant` holds the end values,
+`Linear` follows the end tangents). The derivative of a piecewise polynomial is one again, so the derivatives that IDAS's
 Jacobians need are exact wherever the interpolant is smooth, and zero for the hold.
 
 In sympy the function is an `InterpolatedFunction` applied to its argument; the CasADi lowering
@@ -130,6 +131,35 @@ def cubic_spline(u: list[float], t: list[float], label: str) -> PiecewisePolynom
     pieces = tuple((t[i], (u[i], (u[i + 1] - u[i]) / h[i] - h[i] * (2 * m[i] + m[i + 1]) / 6,
                            m[i] / 2, (m[i + 1] - m[i]) / (6 * h[i]))) for i in range(n - 1))
     return PiecewisePolynomial(tuple(t[1:-1]), pieces, label)
+
+
+# DataInterpolations' ExtrapolationType members; `None` (throw outside the samples) is read as
+# `Extension`, dyadc's behaviour without one (module docstring).
+EXTRAPOLATIONS = ("None", "Extension", "Constant", "Linear", "Periodic", "Reflective")
+UNSUPPORTED_EXTRAPOLATIONS = ("Periodic", "Reflective")
+
+
+@dataclass(frozen=True)
+class Extrapolation:
+    """The value of `ExtrapolationType.Constant` (or `...Constant()`): what an interpolant gives
+    outside its samples."""
+    name: str
+
+
+def extrapolated(table: PiecewisePolynomial, how: Extrapolation, first: float,
+                 last: float) -> PiecewisePolynomial:
+    """`table` outside [first, last], the first and last sample times: continued (`Extension`,
+    `None`), held at its end values (`Constant`) or along its end tangents (`Linear`)."""
+    if how.name in ("None", "Extension"):
+        return table
+    slopes = (0.0, 0.0)
+    derivative = table.derivative() if how.name == "Linear" else None
+    if derivative is not None:
+        slopes = (derivative.value(first), derivative.value(last))
+    left = (first, (table.value(first), slopes[0]))
+    right = (last, (table.value(last), slopes[1]))
+    return PiecewisePolynomial((first,) + table.breaks + (last,), (left,) + table.pieces + (right,),
+                               f"{table.label}, extrapolated {how.name}")
 
 
 KINDS: dict[str, Callable[[list[float], list[float], str], PiecewisePolynomial]] = {

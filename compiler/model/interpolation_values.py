@@ -7,6 +7,8 @@ BlockComponents `Interpolation`, `ScalarInterpolation`, `Tables.InterpolatedTabl
     dataset_interpolation(kind, dataset[only(get_dependent_vars(dataset))],
                           dataset[get_independent_var(dataset)])
     dataset_interpolation(kind, "data.csv", "y", "t")             # a file, its value and time columns
+    dataset_interpolation(kind, dataset["y"], dataset["t"], ExtrapolationType.Constant())
+                                              # values, times, then what to give outside the samples
     dataset_interpolation(kind1, axis1, kind2, axis2, data)       # a 2-D table: refused, located
 
 Each gives the piecewise polynomial of compiler/model/interpolation.py, or None when a value it
@@ -20,8 +22,8 @@ from typing import Any, Callable
 
 from compiler.errors import DyadError, Note, Span
 from compiler.model import datasets
-from compiler.model.interpolation import KINDS, InterpolationError, InterpolationKind, \
-    PiecewisePolynomial
+from compiler.model.interpolation import KINDS, UNSUPPORTED_EXTRAPOLATIONS, Extrapolation, \
+    InterpolationError, InterpolationKind, PiecewisePolynomial, extrapolated
 from compiler.syntax import ast
 
 Structural = Callable[[ast.Expr, Any], Any]
@@ -38,19 +40,36 @@ def dataset_interpolation(call: ast.Call, scope: Any, structural: Structural,
                         "axis2, data)`) is not supported by dyadc yet", call.span,
                         hint="interpolate in one argument: dataset_interpolation(kind, dataset)")
     if len(call.args) not in (2, 3, 4):
-        raise DyadError(f"`dataset_interpolation` takes (kind, dataset), (kind, values, times) or "
-                        f"(kind, file, value_column, time_column), got {len(call.args)} "
-                        f"arguments", call.span)
+        raise DyadError(f"`dataset_interpolation` takes (kind, dataset), (kind, values, times), "
+                        f"(kind, values, times, extrapolation) or (kind, file, value_column, "
+                        f"time_column), got {len(call.args)} arguments", call.span)
     kind = _kind(call.args[0], scope, structural, evaluate_object)
     if len(call.args) == 2:
         return _of_dataset(kind, call, scope, structural, evaluate_object)
+    extrapolation = None
     if len(call.args) == 4:
-        return _of_file(kind, call, scope, structural)
-    columns = [_column(arg, scope, structural, evaluate_object) for arg in call.args[1:]]
+        extrapolation = _extrapolation(call.args[3], scope, structural, evaluate_object)
+        if extrapolation is None:
+            return _of_file(kind, call, scope, structural)
+    columns = [_column(arg, scope, structural, evaluate_object) for arg in call.args[1:3]]
     if kind is None or any(column is None for column in columns):
         return None
     (u, u_label), (t, t_label) = columns
-    return _build(kind, u, t, f"{kind.name} of {u_label} over {t_label}", call.span, None)
+    return _build(kind, u, t, f"{kind.name} of {u_label} over {t_label}", call.span, None,
+                  extrapolation)
+
+
+def _extrapolation(expr: ast.Expr, scope: Any, structural: Structural,
+                   evaluate_object: EvaluateObject) -> Extrapolation | None:
+    """The fourth argument as an extrapolation (`ExtrapolationType.Constant()`), None otherwise."""
+    value = evaluate_object(expr, scope, structural)
+    if not isinstance(value, Extrapolation):
+        return None
+    if value.name in UNSUPPORTED_EXTRAPOLATIONS:
+        raise DyadError(f"`ExtrapolationType.{value.name}` is not supported by dyadc yet",
+                        getattr(expr, "span", None),
+                        hint="use ExtrapolationType.Constant, Linear or Extension")
+    return value
 
 
 def _of_dataset(kind: InterpolationKind | None, call: ast.Call, scope: Any, structural: Structural,
@@ -182,10 +201,11 @@ def _floats(value: Any, expr: Any, function: str = "dataset_interpolation") -> l
 
 
 def _build(kind: InterpolationKind, u: list[float], t: list[float], label: str, span: Span | None,
-           data_span: Span | None) -> PiecewisePolynomial:
+           data_span: Span | None, extrapolation: Extrapolation | None = None) -> PiecewisePolynomial:
     try:
-        return kind.build(u, t, label)
+        table = kind.build(u, t, label)
     except InterpolationError as exc:
         raise DyadError(f"cannot interpolate {label}: {exc}", span,
                         notes=[Note("the dataset is declared here", data_span)] if data_span else
                         []) from None
+    return table if extrapolation is None else extrapolated(table, extrapolation, t[0], t[-1])

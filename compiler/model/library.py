@@ -213,8 +213,9 @@ class Library(FunctionLookup):
             out.append(".".join(parts[:k]) + "." + name)
         head = name.split(".", 1)[0]
         for using in (file.usings if file else ()):
-            if not using.names or head in using.names:
-                out.append(f"{using.absolute_package(package)}.{name}")
+            imported = using.imported(head)         # `using P: a as b` reads `b.x` as `P.a.x`
+            if imported is not None:
+                out.append(f"{using.absolute_package(package)}.{imported}{name[len(head):]}")
         if "." in name or not package:       # an unqualified name never leaves its package
             out.append(name)
         out.append(f"{STANDARD_PACKAGE}.{name}")

@@ -66,13 +66,10 @@ DYADDATA_TYPES = ("DyadDataset", "DyadTimeseries", "DyadTable", "DyadInterpolati
 def is_dyaddata_type(name: str, file) -> bool:
     """Does `name` name one of DyadData's dataset types where it is written?"""
     package, _, short = name.rpartition(".")
-    if short not in DYADDATA_TYPES:
-        return False
-    if package == DYADDATA_PACKAGE:
-        return True
-    return not package and any(using.written == DYADDATA_PACKAGE
-                               and (not using.names or short in using.names)
-                               for using in getattr(file, "usings", ()))
+    if package:
+        return package == DYADDATA_PACKAGE and short in DYADDATA_TYPES
+    return any(using.written == DYADDATA_PACKAGE and using.imported(short) in DYADDATA_TYPES
+               for using in getattr(file, "usings", ()))
 
 
 def is_julia_object(library, spec: ast.TypeSpec, package: str, file) -> bool:

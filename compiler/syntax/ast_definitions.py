@@ -126,11 +126,39 @@ class AnalysisDef:
 @dataclass(frozen=True)
 class Using:
     """`using Package: a, b` or `using Package`; `level` counts the leading dots of a relative
-    `using .Sub` (1) or `using ..Sibling` (2), whose `package` is the name after the dots."""
+    `using .Sub` (1) or `using ..Sibling` (2), whose `package` is the name after the dots.
+    `aliases[i]` is the name `names[i]` has in the file (`using P: a as b`), `()` for no renaming."""
     package: str
     names: tuple[str, ...] = ()
     span: Span | None = NO_SPAN
     level: int = 0
+    aliases: tuple[str, ...] = ()
+
+    def __post_init__(self):
+        if self.aliases == self.names:      # no renaming: one spelling, so equal ASTs compare equal
+            object.__setattr__(self, "aliases", ())
+
+    @property
+    def local_names(self) -> tuple[str, ...]:
+        """The names this `using` brings into the file, after any renaming."""
+        return self.aliases or self.names
+
+    def imported(self, local: str) -> str | None:
+        """The package's own name for `local` as the file writes it: through a rename
+        (`using P: a as b` reads `b` as `a`), itself for a listed name or for any name when
+        nothing is listed (`using P`), None when this `using` does not bring it in."""
+        if not self.names:
+            return local
+        for name, alias in zip(self.names, self.local_names):
+            if alias == local:
+                return name
+        return None
+
+    @property
+    def listed(self) -> str:
+        """The names as written after the colon: `a, b as c`."""
+        return ", ".join(name if name == alias else f"{name} as {alias}"
+                         for name, alias in zip(self.names, self.local_names))
 
     @property
     def written(self) -> str:

@@ -364,7 +364,7 @@ def format_blocks(file: ast.File) -> list[list[str]]:
     which a blank line separates."""
     blocks = []
     if file.usings:
-        blocks.append([_at(f"using {u.written}" + (f": {', '.join(u.names)}" if u.names else ""), u.span)
+        blocks.append([_at(f"using {u.written}" + (f": {u.listed}" if u.names else ""), u.span)
                        for u in file.usings])
     blocks += [_definition(d) for d in file.definitions]
     return blocks

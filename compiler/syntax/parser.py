@@ -116,7 +116,7 @@ def summarize(file: ast.File) -> str:
     """A short human-readable listing of what a file defines, for `dyadc parse`."""
     lines = [f"{file.path}: {len(file.definitions)} definition(s)"]
     for using in file.usings:
-        names = f": {', '.join(using.names)}" if using.names else ""
+        names = f": {using.listed}" if using.names else ""
         lines.append(f"  using {using.written}{names}")
     for definition in file.definitions:
         lines.append("  " + _describe(definition))

@@ -37,7 +37,20 @@ class DefinitionRules(RuleBase):
 
     def using_names(self, meta, children):
         (level, package), *names = children
-        return ast.Using(package, tuple(n.value for n in names), span=self._span(meta), level=level)
+        return ast.Using(package, tuple(name for name, _ in names), span=self._span(meta),
+                         level=level, aliases=tuple(alias for _, alias in names))
+
+    def using_name(self, meta, children):
+        """(the imported name, the name it has in this file): `x`, or `x as y` (Julia's renaming)."""
+        if len(children) == 1:
+            return children[0].value, children[0].value
+        name, word, alias = children
+        if word.value != "as":
+            raise self._error(f"expected `as` or `,` after `{name.value}` in this `using`, found "
+                              f"`{word.value}`", self._tspan(word),
+                              hint=f"rename with `{name.value} as {alias.value}`, or list names "
+                                   f"with commas")
+        return name.value, alias.value
 
     def using_path(self, meta, children):
         """(number of leading dots, the dotted name after them)"""

@@ -29,6 +29,11 @@ def test_each_explanation_names_a_published_line(key):
 
 
 @pytest.mark.parametrize("key", sorted(EXPLAINED))
+def test_each_explanation_says_what_dyads_documentation_says_about_the_line(key):
+    assert EXPLAINED[key].documented.startswith("help.juliahub.com, Dyad standard library")
+
+
+@pytest.mark.parametrize("key", sorted(EXPLAINED))
 def test_the_named_line_holds_what_the_entry_quotes(key):
     entry = EXPLAINED[key]
     place = PLACE.match(entry.at)
@@ -59,6 +64,8 @@ def test_the_report_prints_the_line_at_fault_for_components_and_runs():
     assert f"| LimPID | BlockComponents/dyad/lim_pid.dyad | {at} | `control_error` is declared" in text
     assert f"| LimPIDTest | BlockComponents/dyad/lim_pid_test.dyad | {at} |" in text
     assert f"| LimPIDTest.case1 | BlockComponents/dyad/lim_pid_test.dyad | {at} |" in text
+    documented = "| help.juliahub.com, Dyad standard library, BlockComponents LimPID: lists `control_error`"
+    assert text.count(documented) == 3
 
 
 def test_a_different_failure_is_not_explained_by_an_old_entry():

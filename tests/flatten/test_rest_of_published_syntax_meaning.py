@@ -56,6 +56,36 @@ CLOCK = """
 """
 
 
+def test_a_renamed_using_names_the_definition_by_its_new_name_only(sources):
+    """Julia's `using P: a as b`: `b` is P's `a` in this file (also as the head of a dotted
+    name); the old name `a` is not brought in."""
+    sources.write("Rig/Parts/Spring.dyad", """
+        component Spring
+          parameter k::Real = 3
+          variable f::Real
+        relations
+          f = k
+        end
+    """)
+    sources.write("Bench.dyad", """
+        using Rig: Parts as P
+        using Rig.Parts: Spring as Coil
+        component Bench
+          a = Coil(k = 4)
+          b = P.Spring()
+        end
+        component Old
+          c = Spring()
+        end
+    """)
+    flat = flatten_model("Bench", [str(sources.root)])
+    assert {p.name: p.value for p in flat.parameters if p.name.endswith(".k")} == {"a.k": 4, "b.k": 3}
+    with pytest.raises(DyadError) as caught:
+        flatten_model("Old", [str(sources.root)])
+    assert "unknown component type `Spring`" in caught.value.message
+    assert (caught.value.span.line, caught.value.span.column) == (8, 3)
+
+
 def test_a_declared_time_shadows_the_independent_variable_inside_its_component(sources):
     path = sources.write("Clock.dyad", CLOCK)
     from compiler.api import simulate
@@ -248,3 +278,46 @@ def test_an_if_expression_inside_a_case_of_a_switch_value_is_the_cases_value(sou
     """)
     (equation,) = flat.equations
     assert str(equation.residual) == "y - Piecewise((3, wet > 1/2), (4, True))"
+
+
+def test_documented_enums_compare_and_a_switch_reads_a_subcomponents_enum(sources):
+    """The enum forms of Dyad's documented libraries: a docstring before `enum X = | A | B`, a
+    member named `None`, `!=` between enum values in an if-expression, and a switch value whose
+    subject is a structural enum parameter of a subcomponent (`switch b.states`)."""
+    text = """
+        "Which orientation states a body keeps."
+        enum Orientation = | None | Euler | Quaternion
+        "The frame nearer the root."
+        enum Rooted
+          | FrameA
+          | FrameB
+        end
+        component Body
+          structural parameter states::Orientation = Orientation.None()
+          structural parameter rooted::Rooted = Rooted.FrameA()
+          variable y::Real
+        relations
+          switch states
+            case None
+              y = 0
+            end
+            case Euler, Quaternion
+              y = if rooted != Rooted.FrameA() then 2 else 1
+            end
+          end
+        end
+        component Rig
+          plain = Body()
+          b = Body(states = Orientation.Euler(), rooted = Rooted.FrameB())
+          variable z::Real = switch b.states
+            case None
+              0
+            end
+            else
+              b.y
+            end
+          end
+        end
+    """
+    flat = sources.flatten(text, "Rig")
+    assert {str(e.residual) for e in flat.equations} == {"plain.y", "b.y - 2", "-b.y + z"}

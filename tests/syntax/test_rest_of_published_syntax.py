@@ -54,6 +54,26 @@ def test_a_relative_using_above_the_top_level_is_a_located_error():
     assert "above the top-level packages" in err.message and err.hint == "name the package absolutely: `using Far`"
 
 
+def test_using_renames_listed_names_as_julia_does():
+    (using,) = parse("using ..Gears.Spur: Wheel as W, Hub, Axle as A\n").usings
+    assert (using.names, using.local_names) == (("Wheel", "Hub", "Axle"), ("W", "Hub", "A"))
+    assert [using.imported(n) for n in ("W", "Hub", "A", "Wheel", "Axle")] == ["Wheel", "Hub", "Axle", None, None]
+    assert format_file(parse_source("using P: a as b, c\n", "t.dyad")) == "using P: a as b, c\n"
+    assert parse("using P: a as a\n").usings == parse("using P: a\n").usings     # renamed to itself
+
+
+def test_a_word_other_than_as_between_two_using_names_is_a_located_error():
+    err = error("using P: a to b\n")
+    assert (err.span.line, err.span.column, err.message) == (
+        1, 12, "expected `as` or `,` after `a` in this `using`, found `to`")
+    assert err.hint == "rename with `a as b`, or list names with commas"
+
+
+def test_as_stays_an_ordinary_name_outside_using():
+    (definition,) = parse("component C\n  parameter as::Real = 1\nend\n").definitions
+    assert definition.declarations[0].name == "as"
+
+
 # ------------------------------------------------------------------ comprehensions: filters, nesting
 
 def parameter_value(text: str) -> ast.Expr:
