@@ -4,6 +4,7 @@ BlockComponents `Interpolation`, `ScalarInterpolation`, `Tables.InterpolatedTabl
 
     dataset_interpolation(kind, dataset)                          # the dataset's one dependent var
     dataset_interpolation(kind, dataset["y"], dataset["t"])       # values, then times: columns
+    dataset_interpolation(kind, dataset["y"], dataset["t"], extrapolation)  # an ExtrapolationType
     dataset_interpolation(kind, dataset[only(get_dependent_vars(dataset))],
                           dataset[get_independent_var(dataset)])
     dataset_interpolation(kind, "data.csv", "y", "t")             # a file, its value and time columns
@@ -20,13 +21,14 @@ from typing import Any, Callable
 
 from compiler.errors import DyadError, Note, Span
 from compiler.model import datasets
-from compiler.model.interpolation import KINDS, InterpolationError, InterpolationKind, \
-    PiecewisePolynomial
+from compiler.model.interpolation import EXTRAPOLATIONS, KINDS, InterpolationError, \
+    InterpolationKind, PiecewisePolynomial, extrapolated
 from compiler.syntax import ast
 
 Structural = Callable[[ast.Expr, Any], Any]
 EvaluateObject = Callable[[ast.Expr, Any, Structural], Any]
 _COLUMN_OF = {"get_independent_var": "independent"}     # `dataset[get_independent_var(dataset)]`
+EXTRAPOLATION_TYPE = "BlockComponents.Tables.ExtrapolationType"
 
 
 def dataset_interpolation(call: ast.Call, scope: Any, structural: Structural,
@@ -44,13 +46,45 @@ def dataset_interpolation(call: ast.Call, scope: Any, structural: Structural,
     kind = _kind(call.args[0], scope, structural, evaluate_object)
     if len(call.args) == 2:
         return _of_dataset(kind, call, scope, structural, evaluate_object)
-    if len(call.args) == 4:
+    if len(call.args) == 4 and _is_file_name(call.args[1], scope, structural):
         return _of_file(kind, call, scope, structural)
-    columns = [_column(arg, scope, structural, evaluate_object) for arg in call.args[1:]]
-    if kind is None or any(column is None for column in columns):
+    columns = [_column(arg, scope, structural, evaluate_object) for arg in call.args[1:3]]
+    how = _extrapolation(call.args[3], scope, structural) if len(call.args) == 4 else "Extension"
+    if kind is None or how is None or any(column is None for column in columns):
         return None
     (u, u_label), (t, t_label) = columns
-    return _build(kind, u, t, f"{kind.name} of {u_label} over {t_label}", call.span, None)
+    table = _build(kind, u, t, f"{kind.name} of {u_label} over {t_label}", call.span, None)
+    return extrapolated(table, t[0], t[-1], how)
+
+
+def _is_file_name(expr: ast.Expr, scope: Any, structural: Structural) -> bool:
+    """The file form's second argument is a string; the column form's a column or a vector."""
+    if isinstance(expr, ast.Ref) and expr.parts[-1].indices:
+        return False
+    return isinstance(structural(expr, scope), str)
+
+
+def _extrapolation(expr: ast.Expr, scope: Any, structural: Structural) -> str | None:
+    """The name of the `ExtrapolationType` member `expr` gives (None: not given here)."""
+    value = structural(expr, scope)
+    if value is None:
+        return None
+    found = scope.lexical.library.find(EXTRAPOLATION_TYPE)
+    members = found.definition.members if found is not None else ()
+    span = getattr(expr, "span", None)
+    try:
+        position = int(value)
+    except (TypeError, ValueError):
+        position = 0
+    if not 1 <= position <= len(members):
+        raise DyadError(f"the fourth argument of `dataset_interpolation` is not a member of "
+                        f"`{EXTRAPOLATION_TYPE}`", span,
+                        hint=f"write e.g. {EXTRAPOLATION_TYPE}.Constant()")
+    how = members[position - 1]
+    if how not in EXTRAPOLATIONS:
+        raise DyadError(f"extrapolation `{how}` is not supported by dyadc yet", span,
+                        hint=f"use one of {', '.join(EXTRAPOLATIONS)}")
+    return how
 
 
 def _of_dataset(kind: InterpolationKind | None, call: ast.Call, scope: Any, structural: Structural,
