@@ -29,7 +29,7 @@ from typing import Any, Callable
 
 from compiler.errors import DyadError, Span
 from compiler.julia.objects import Evaluator, opaque, path_field_of
-from compiler.model import datasets, interpolation, interpolation_values
+from compiler.model import datasets, interpolation, interpolation_values, table2d
 from compiler.model.interpolation import KINDS, InterpolationKind, PiecewisePolynomial
 from compiler.syntax import ast
 
@@ -89,9 +89,11 @@ def interpolator_call(call: ast.Call, scope: Any, evaluator: Evaluator) -> Any:
     numeric = [evaluator.value(arg, scope) for arg in call.args
                if path_field_of(arg, node) is None]
     table = object_value(node, call.function, evaluator.structural)
+    path = f"{node.path}.{call.function}" if node.path else call.function
     if isinstance(table, PiecewisePolynomial):
-        path = f"{node.path}.{call.function}" if node.path else call.function
         return applied(table, path, numeric, call.span)
+    if isinstance(table, table2d.Table2D):
+        return table2d.applied(table, path, numeric, call.span)
     return opaque(call.function, numeric)
 
 

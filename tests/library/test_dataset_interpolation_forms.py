@@ -1,7 +1,8 @@
 """Every form of `dataset_interpolation` Dyad's BlockComponents documentation uses, and DyadData's
 dataset types as declared types (issue 27, item 3; compiler/model/interpolation_values.py,
 structs.py): each one-dimensional form gives the chord of the same samples, y = 2 t on 0, 1, 2,
-so y(1.5) = 3 exactly; the two-dimensional table is a located refusal."""
+so y(1.5) = 3 exactly; a two-dimensional table given one-dimensional kinds is a located error
+(the tables themselves: test_stdlib_tables_2d.py)."""
 from __future__ import annotations
 
 import textwrap
@@ -85,7 +86,8 @@ def test_without_using_an_unqualified_dyaddata_type_is_unknown(tmp_path):
 
 @pytest.mark.parametrize("call, message", [
     ("dataset_interpolation(LinearInterpolation, [0, 1], LinearInterpolation, [0, 1], ds)",
-     "a two-dimensional table"),
+     "a two-dimensional table interpolates along each axis as a member of "
+     "`BlockComponents.Tables.InterpolationDimension` says, not `LinearInterpolation`"),
     ("dataset_interpolation(LinearInterpolation, ds[\"z\"], ds[\"ts\"])",
      "the dataset has no column `z`; it has ts, y"),
     ("dataset_interpolation(LinearInterpolation, \"d.csv\", 1, \"ts\")",
