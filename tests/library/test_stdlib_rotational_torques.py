@@ -48,3 +48,10 @@ def test_sign_torques_brake_and_follow_their_smoothing(run):
 
 def test_constant_speed_turns_its_spline_uniformly(run):
     np.testing.assert_allclose(run["j_spinner.phi"], 2 * run.time, rtol=1e-9, atol=1e-12)
+
+
+def test_torque2_turns_two_inertias_apart_without_net_momentum(run):
+    t = run.time
+    np.testing.assert_allclose(run["j_twist_a.w"], -1.5 * t, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(run["j_twist_b.w"], 1.5 * t / 2, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(1 * run["j_twist_a.w"] + 2 * run["j_twist_b.w"], 0, atol=1e-9)
