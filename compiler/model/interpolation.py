@@ -12,9 +12,9 @@ piecewise polynomial: pieces that are polynomials in (x - origin), switched at b
 
 Outside the samples the first and last pieces continue (DataInterpolations' `Extension`; Dyad's
 own default refuses such arguments with an error, which a solver stepping past the last sample
-would hit), unless an extrapolation is asked for (`extrapolated`: `Constant` holds the end values,
-`Linear` follows the end tangents). The derivative of a piecewise polynomial is one again, so the derivatives that IDAS's
-Jacobians need are exact wherever the interpolant is smooth, and zero for the hold.
+would hit), or, as an `extrapolation_type` asks, hold the end values or follow the end tangents.
+The derivative of a piecewise polynomial is one again, so the derivatives that IDAS's Jacobians need
+are exact wherever the interpolant is smooth, and zero for the hold.
 
 In sympy the function is an `InterpolatedFunction` applied to its argument; the CasADi lowering
 evaluates it with `select(condition, a, b)` (an if-else chain over the breakpoints, plain
@@ -133,41 +133,41 @@ def cubic_spline(u: list[float], t: list[float], label: str) -> PiecewisePolynom
     return PiecewisePolynomial(tuple(t[1:-1]), pieces, label)
 
 
-# DataInterpolations' ExtrapolationType members; `None` (throw outside the samples) is read as
-# `Extension`, dyadc's behaviour without one (module docstring).
-EXTRAPOLATIONS = ("None", "Extension", "Constant", "Linear", "Periodic", "Reflective")
-UNSUPPORTED_EXTRAPOLATIONS = ("Periodic", "Reflective")
-
-
-@dataclass(frozen=True)
-class Extrapolation:
-    """The value of `ExtrapolationType.Constant` (or `...Constant()`): what an interpolant gives
-    outside its samples."""
-    name: str
-
-
-def extrapolated(table: PiecewisePolynomial, how: Extrapolation, first: float,
-                 last: float) -> PiecewisePolynomial:
-    """`table` outside [first, last], the first and last sample times: continued (`Extension`,
-    `None`), held at its end values (`Constant`) or along its end tangents (`Linear`)."""
-    if how.name in ("None", "Extension"):
-        return table
-    slopes = (0.0, 0.0)
-    derivative = table.derivative() if how.name == "Linear" else None
-    if derivative is not None:
-        slopes = (derivative.value(first), derivative.value(last))
-    left = (first, (table.value(first), slopes[0]))
-    right = (last, (table.value(last), slopes[1]))
-    return PiecewisePolynomial((first,) + table.breaks + (last,), (left,) + table.pieces + (right,),
-                               f"{table.label}, extrapolated {how.name}")
-
-
 KINDS: dict[str, Callable[[list[float], list[float], str], PiecewisePolynomial]] = {
     "LinearInterpolation": linear,
     "ConstantInterpolation": constant,
     "QuadraticInterpolation": quadratic,
     "CubicSpline": cubic_spline,
 }
+
+
+# Dyad's `BlockComponents.Tables.ExtrapolationType` members that dyadc builds: how the interpolant
+# continues left of the first sample and right of the last. `None` (Dyad: an error outside the
+# samples) continues the end pieces as `Extension` does; `Periodic` and `Reflective` are refused.
+EXTRAPOLATIONS = ("None", "Constant", "Linear", "Extension")
+
+
+def extrapolated(table: PiecewisePolynomial, first: float, last: float,
+                 how: str) -> PiecewisePolynomial:
+    """`table` (built on samples from `first` to `last`) continued outside them `how`: `Constant`
+    holds the end values, `Linear` follows the end tangents, `Extension` and `None` continue the
+    end pieces (the table as it is)."""
+    if how in ("Extension", "None"):
+        return table
+    derivative = table.derivative() if how == "Linear" else None
+
+    def end_piece(x: float) -> tuple[float, tuple[float, ...]]:
+        slope = derivative.value(x) if derivative is not None else 0.0
+        return x, (table.value(x), slope) if how == "Linear" else (table.value(x),)
+
+    breaks, pieces = list(table.breaks), list(table.pieces)
+    if not breaks or first < breaks[0]:
+        breaks.insert(0, first)
+        pieces.insert(0, end_piece(first))
+    if last > breaks[-1]:               # a hold's last piece already starts at the last sample
+        breaks.append(last)
+        pieces.append(end_piece(last))
+    return PiecewisePolynomial(tuple(breaks), tuple(pieces), f"{table.label}, {how} outside")
 
 
 @dataclass(frozen=True)

@@ -4,16 +4,16 @@ BlockComponents `Interpolation`, `ScalarInterpolation`, `Tables.InterpolatedTabl
 
     dataset_interpolation(kind, dataset)                          # the dataset's one dependent var
     dataset_interpolation(kind, dataset["y"], dataset["t"])       # values, then times: columns
+    dataset_interpolation(kind, dataset["y"], dataset["t"], extrapolation)  # an ExtrapolationType
     dataset_interpolation(kind, dataset[only(get_dependent_vars(dataset))],
                           dataset[get_independent_var(dataset)])
     dataset_interpolation(kind, "data.csv", "y", "t")             # a file, its value and time columns
-    dataset_interpolation(kind, dataset["y"], dataset["t"], ExtrapolationType.Constant())
-                                              # values, times, then what to give outside the samples
-    dataset_interpolation(kind1, axis1, kind2, axis2, data)       # a 2-D table: refused, located
+    dataset_interpolation(kind1, axis1, kind2, axis2, data)       # a 2-D table (table2d.py)
 
-Each gives the piecewise polynomial of compiler/model/interpolation.py, or None when a value it
-needs is not given where it is used (a component checked on its own). `evaluate_object` is
-compiler/model/object_values.py's, passed in so that this module does not import it back.
+Each gives the piecewise polynomial of compiler/model/interpolation.py (the two-dimensional form a
+table2d.Table2D), or None when a value it needs is not given where it is used (a component checked
+on its own). `evaluate_object` is compiler/model/object_values.py's, passed in so that this module
+does not import it back.
 """
 from __future__ import annotations
 
@@ -21,55 +21,101 @@ from pathlib import Path
 from typing import Any, Callable
 
 from compiler.errors import DyadError, Note, Span
-from compiler.model import datasets
-from compiler.model.interpolation import KINDS, UNSUPPORTED_EXTRAPOLATIONS, Extrapolation, \
-    InterpolationError, InterpolationKind, PiecewisePolynomial, extrapolated
+from compiler.model import datasets, table2d
+from compiler.model.interpolation import EXTRAPOLATIONS, KINDS, InterpolationError, \
+    InterpolationKind, PiecewisePolynomial, extrapolated
 from compiler.syntax import ast
 
 Structural = Callable[[ast.Expr, Any], Any]
 EvaluateObject = Callable[[ast.Expr, Any, Structural], Any]
 _COLUMN_OF = {"get_independent_var": "independent"}     # `dataset[get_independent_var(dataset)]`
+EXTRAPOLATION_TYPE = "BlockComponents.Tables.ExtrapolationType"
+Interpolant = PiecewisePolynomial | table2d.Table2D
 
 
 def dataset_interpolation(call: ast.Call, scope: Any, structural: Structural,
-                          evaluate_object: EvaluateObject) -> PiecewisePolynomial | None:
+                          evaluate_object: EvaluateObject) -> Interpolant | None:
     if call.kwargs:
         raise DyadError("`dataset_interpolation` takes no keyword arguments in dyadc", call.span)
     if len(call.args) == 5:
-        raise DyadError("a two-dimensional table (`dataset_interpolation(kind1, axis1, kind2, "
-                        "axis2, data)`) is not supported by dyadc yet", call.span,
-                        hint="interpolate in one argument: dataset_interpolation(kind, dataset)")
+        return _table(call, scope, structural)
     if len(call.args) not in (2, 3, 4):
-        raise DyadError(f"`dataset_interpolation` takes (kind, dataset), (kind, values, times), "
-                        f"(kind, values, times, extrapolation) or (kind, file, value_column, "
-                        f"time_column), got {len(call.args)} arguments", call.span)
+        raise DyadError(f"`dataset_interpolation` takes (kind, dataset), (kind, values, times) or "
+                        f"(kind, file, value_column, time_column), got {len(call.args)} "
+                        f"arguments", call.span)
     kind = _kind(call.args[0], scope, structural, evaluate_object)
     if len(call.args) == 2:
         return _of_dataset(kind, call, scope, structural, evaluate_object)
-    extrapolation = None
-    if len(call.args) == 4:
-        extrapolation = _extrapolation(call.args[3], scope, structural, evaluate_object)
-        if extrapolation is None:
-            return _of_file(kind, call, scope, structural)
+    if len(call.args) == 4 and _is_file_name(call.args[1], scope, structural):
+        return _of_file(kind, call, scope, structural)
     columns = [_column(arg, scope, structural, evaluate_object) for arg in call.args[1:3]]
-    if kind is None or any(column is None for column in columns):
+    how = _extrapolation(call.args[3], scope, structural) if len(call.args) == 4 else "Extension"
+    if kind is None or how is None or any(column is None for column in columns):
         return None
     (u, u_label), (t, t_label) = columns
-    return _build(kind, u, t, f"{kind.name} of {u_label} over {t_label}", call.span, None,
-                  extrapolation)
+    table = _build(kind, u, t, f"{kind.name} of {u_label} over {t_label}", call.span, None)
+    return extrapolated(table, t[0], t[-1], how)
 
 
-def _extrapolation(expr: ast.Expr, scope: Any, structural: Structural,
-                   evaluate_object: EvaluateObject) -> Extrapolation | None:
-    """The fourth argument as an extrapolation (`ExtrapolationType.Constant()`), None otherwise."""
-    value = evaluate_object(expr, scope, structural)
-    if not isinstance(value, Extrapolation):
+def _table(call: ast.Call, scope: Any, structural: Structural) -> table2d.Table2D | None:
+    """`dataset_interpolation(kind1, axis1, kind2, axis2, data)`: compiler/model/table2d.py."""
+    kind1, kind2 = (_dimension(call.args[k], scope, structural) for k in (0, 2))
+    values = [structural(call.args[k], scope) for k in (1, 3, 4)]
+    if kind1 is None or kind2 is None or any(value is None for value in values):
         return None
-    if value.name in UNSUPPORTED_EXTRAPOLATIONS:
-        raise DyadError(f"`ExtrapolationType.{value.name}` is not supported by dyadc yet",
-                        getattr(expr, "span", None),
-                        hint="use ExtrapolationType.Constant, Linear or Extension")
-    return value
+    axis1, axis2 = (_floats(values[k], call.args[1 + 2 * k]) for k in (0, 1))
+    try:
+        return table2d.build(kind1, axis1, kind2, axis2, values[2], f"the table at {call.span}")
+    except InterpolationError as exc:
+        raise DyadError(f"cannot interpolate the two-dimensional table: {exc}", call.span) from None
+
+
+def _dimension(expr: ast.Expr, scope: Any, structural: Structural) -> str | None:
+    """The one-dimensional kind an `InterpolationDimension` member builds (None: not given here)."""
+    if isinstance(expr, ast.Ref) and len(expr.parts) == 1 and expr.parts[0].name in KINDS:
+        raise DyadError(f"a two-dimensional table interpolates along each axis as a member of "
+                        f"`{table2d.DIMENSION_TYPE}` says, not `{expr.parts[0].name}`", expr.span,
+                        hint=f"write e.g. {table2d.DIMENSION_TYPE}.LinearInterpolationDimension()")
+    name = _enum_member(expr, scope, structural, table2d.DIMENSION_TYPE, "an argument")
+    if name is not None and name not in table2d.DIMENSION_KINDS:
+        raise DyadError(f"`{name}` is not supported by dyadc yet", getattr(expr, "span", None),
+                        hint=f"use one of {', '.join(table2d.DIMENSION_KINDS)}")
+    return table2d.DIMENSION_KINDS.get(name)
+
+
+def _enum_member(expr: ast.Expr, scope: Any, structural: Structural, enum: str,
+                 which: str) -> str | None:
+    """The member of `enum` that `expr` gives, by name (None: not given here)."""
+    value = structural(expr, scope)
+    if value is None:
+        return None
+    found = scope.lexical.library.find(enum)
+    members = found.definition.members if found is not None else ()
+    try:
+        position = int(value)
+    except (TypeError, ValueError):
+        position = 0
+    if not 1 <= position <= len(members):
+        raise DyadError(f"{which} of `dataset_interpolation` is not a member of `{enum}`",
+                        getattr(expr, "span", None), hint=f"write e.g. {enum}.{members[0]}()"
+                        if members else None)
+    return members[position - 1]
+
+
+def _is_file_name(expr: ast.Expr, scope: Any, structural: Structural) -> bool:
+    """The file form's second argument is a string; the column form's a column or a vector."""
+    if isinstance(expr, ast.Ref) and expr.parts[-1].indices:
+        return False
+    return isinstance(structural(expr, scope), str)
+
+
+def _extrapolation(expr: ast.Expr, scope: Any, structural: Structural) -> str | None:
+    """The name of the `ExtrapolationType` member `expr` gives (None: not given here)."""
+    how = _enum_member(expr, scope, structural, EXTRAPOLATION_TYPE, "the fourth argument")
+    if how is not None and how not in EXTRAPOLATIONS:
+        raise DyadError(f"extrapolation `{how}` is not supported by dyadc yet",
+                        getattr(expr, "span", None), hint=f"use one of {', '.join(EXTRAPOLATIONS)}")
+    return how
 
 
 def _of_dataset(kind: InterpolationKind | None, call: ast.Call, scope: Any, structural: Structural,
@@ -201,11 +247,10 @@ def _floats(value: Any, expr: Any, function: str = "dataset_interpolation") -> l
 
 
 def _build(kind: InterpolationKind, u: list[float], t: list[float], label: str, span: Span | None,
-           data_span: Span | None, extrapolation: Extrapolation | None = None) -> PiecewisePolynomial:
+           data_span: Span | None) -> PiecewisePolynomial:
     try:
-        table = kind.build(u, t, label)
+        return kind.build(u, t, label)
     except InterpolationError as exc:
         raise DyadError(f"cannot interpolate {label}: {exc}", span,
                         notes=[Note("the dataset is declared here", data_span)] if data_span else
                         []) from None
-    return table if extrapolation is None else extrapolated(table, extrapolation, t[0], t[-1])

@@ -22,6 +22,17 @@ STICK_SLIP_ELEMENTS = {
                              "LossyGear", "Gearbox"),
     "TranslationalComponents": ("SupportFriction", "Brake", "MassWithStopAndFriction"),
 }
+# Elements whose output depends on the past of their inputs, held between events (Modelica's
+# names, which Dyad's library mirrors): a flip-flop's or hysteresis' stored bit, an edge's or a
+# timer's instant, a thyristor's latched conduction, an arc's burning. dyadc has no discrete states
+# (no `pre`, no `when`), so each is refused at its declaration by name.
+MEMORY_ELEMENTS = {
+    "BlockComponents": ("Pre", "Edge", "FallingEdge", "Change", "Timer", "RSFlipFlop",
+                        "LogicalDelay", "TriggeredTrapezoid", "OnOffController", "Hysteresis",
+                        "ZeroCrossing"),
+    "ElectricalComponents": ("IdealThyristor", "IdealGTOThyristor", "IdealTriac", "OpenerWithArc",
+                             "CloserWithArc", "ControlledOpenerWithArc", "ControlledCloserWithArc"),
+}
 
 
 def suggest_component(library, name: str, package: str, file: ast.File | None) -> str | None:
@@ -89,7 +100,8 @@ def ambiguous_alias_hint(library, name: str, package: str, file: ast.File | None
 
 def unsupported_component_error(name: str, span: Span | None) -> DyadError | None:
     """The refusal of a component of Dyad's standard library that needs a feature dyadc lacks (a
-    sampled package's clocked semantics, a friction element's stuck/sliding mode), or None."""
+    sampled package's clocked semantics, a friction element's stuck/sliding mode, an element's
+    memory), or None."""
     package = name.split(".", 1)[0]
     if "." not in name:
         return None
@@ -104,4 +116,10 @@ def unsupported_component_error(name: str, span: Span | None) -> DyadError | Non
                          f"(no discrete states)", span,
                          hint="model the friction as a smooth law of the slip speed (a Damper, or "
                               "your own component with tanh(w / w_small))")
+    if element in MEMORY_ELEMENTS.get(package, ()):
+        return DyadError(f"`{name}` is an element with memory of Dyad's `{package}`: its output "
+                         f"keeps a value set at an earlier event (a latched state), and dyadc has no "
+                         f"discrete states yet (no `pre`, no `when`)", span,
+                         hint="use an element that reads only the present inputs (a threshold "
+                              "comparison, LogicalSwitch, Switch, IdealOpeningSwitch, IdealDiode)")
     return None

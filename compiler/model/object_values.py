@@ -29,9 +29,8 @@ from typing import Any, Callable
 
 from compiler.errors import DyadError, Span
 from compiler.julia.objects import Evaluator, opaque, path_field_of
-from compiler.model import datasets, interpolation, interpolation_values
-from compiler.model.interpolation import EXTRAPOLATIONS, KINDS, Extrapolation, InterpolationKind, \
-    PiecewisePolynomial
+from compiler.model import datasets, interpolation, interpolation_values, table2d
+from compiler.model.interpolation import KINDS, InterpolationKind, PiecewisePolynomial
 from compiler.syntax import ast
 
 # DyadData's time series takes the same arguments as its dataset (help.juliahub.com, "Working
@@ -90,9 +89,11 @@ def interpolator_call(call: ast.Call, scope: Any, evaluator: Evaluator) -> Any:
     numeric = [evaluator.value(arg, scope) for arg in call.args
                if path_field_of(arg, node) is None]
     table = object_value(node, call.function, evaluator.structural)
+    path = f"{node.path}.{call.function}" if node.path else call.function
     if isinstance(table, PiecewisePolynomial):
-        path = f"{node.path}.{call.function}" if node.path else call.function
         return applied(table, path, numeric, call.span)
+    if isinstance(table, table2d.Table2D):
+        return table2d.applied(table, path, numeric, call.span)
     return opaque(call.function, numeric)
 
 
@@ -133,28 +134,12 @@ def evaluate_object(expr: ast.Expr, scope: Any, structural: Structural) -> Any:
                                                               evaluate_object)
         if function in KINDS and function not in scope.node.member_names():
             return interpolation_values.direct_interpolation(expr, scope, structural)
-        if not expr.args and not expr.kwargs:
-            return extrapolation_named(function, expr.span)
     return None
-
-
-def extrapolation_named(dotted: str, span: Span | None) -> Extrapolation | None:
-    """`ExtrapolationType.Constant` (DataInterpolations' enum, also qualified by its package) as
-    a value; None for any other name."""
-    owner, _, member = dotted.rpartition(".")
-    if owner.rpartition(".")[2] != "ExtrapolationType":
-        return None
-    if member not in EXTRAPOLATIONS:
-        raise DyadError(f"`ExtrapolationType` has no member `{member}`; it has "
-                        f"{', '.join(EXTRAPOLATIONS)}", span)
-    return Extrapolation(member)
 
 
 def _reference(ref: ast.Ref, scope: Any, structural: Structural) -> Any:
     if any(part.indices for part in ref.parts):
         return None
-    if len(ref.parts) >= 2 and ref.parts[0].name not in getattr(scope.node, "children", {}):
-        return extrapolation_named(".".join(part.name for part in ref.parts), ref.span)
     node = scope.node
     for part in ref.parts[:-1]:
         node = getattr(node, "children", {}).get(part.name)
