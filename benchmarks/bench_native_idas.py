@@ -29,7 +29,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 from compiler import api, runtime  # noqa: E402
 from compiler.cache.c_code import compile_c  # noqa: E402
 from compiler.runtime.initialization import consistent_initialization  # noqa: E402
-from compiler.native import library, make_integrator  # noqa: E402
+from compiler.runtime.native import library, make_integrator  # noqa: E402
 import bench_floor  # noqa: E402
 
 BEGIN, END = "<!-- native idas: begin -->", "<!-- native idas: end -->"

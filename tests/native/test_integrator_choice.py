@@ -1,4 +1,4 @@
-"""Which integrator a run through the compiler gets (compiler/native/choice.py): the native IDAS
+"""Which integrator a run through the compiler gets (compiler/runtime/native/choice.py): the native IDAS
 driver by default where it can run the model, CasADi's IDAS where it cannot, with the reason in
 Result.stats and on the summary line; `integrator=`, `--integrator` and $DYADC_INTEGRATOR choose."""
 from __future__ import annotations
@@ -8,7 +8,7 @@ import warnings
 import pytest
 
 from compiler import api
-from compiler.native import INTEGRATOR_VARIABLE, NativeIdasWarning, library
+from compiler.runtime.native import INTEGRATOR_VARIABLE, NativeIdasWarning, library
 
 pytestmark = pytest.mark.skipif(library.driver_library()[0] is None,
                                 reason="native IDAS driver not built (make install builds it)")
