@@ -18,6 +18,7 @@ import math
 import pickle
 import shutil
 import tempfile
+import threading
 import time as _time
 from pathlib import Path
 from dataclasses import dataclass, field
@@ -105,19 +106,21 @@ def on_libraries(model: CompiledModel, libraries: Mapping[str, bytes]) -> Compil
 
 
 _LIBRARY_FOLDER: list[Path] = []             # this process's folder of shipped libraries, made once
+_LIBRARY_LOCK = threading.Lock()             # a worker may run batches in several threads
 
 
 def _library_file(data: bytes) -> str:
-    if not _LIBRARY_FOLDER:
-        folder = Path(tempfile.mkdtemp(prefix="dyadc-sweep-lib-"))
-        atexit.register(shutil.rmtree, folder, True)
-        _LIBRARY_FOLDER.append(folder)
-    path = _LIBRARY_FOLDER[0] / f"dyad_{hashlib.sha256(data).hexdigest()[:32]}.so"
-    if not path.exists():
-        partial = path.with_suffix(".part")
-        partial.write_bytes(data)
-        partial.replace(path)
-    return str(path)
+    with _LIBRARY_LOCK:
+        if not _LIBRARY_FOLDER:
+            folder = Path(tempfile.mkdtemp(prefix="dyadc-sweep-lib-"))
+            atexit.register(shutil.rmtree, folder, True)
+            _LIBRARY_FOLDER.append(folder)
+        path = _LIBRARY_FOLDER[0] / f"dyad_{hashlib.sha256(data).hexdigest()[:32]}.so"
+        if not path.exists():
+            partial = path.with_suffix(".part")
+            partial.write_bytes(data)
+            partial.replace(path)
+        return str(path)
 
 
 def run_batch(payload: ModelPayload, job: Job, batch: Sequence[tuple[int, Mapping[str, float]]]
