@@ -55,3 +55,11 @@ def test_a_worker_loads_the_shipped_c_library_of_a_model_on_c(decay, each_codege
         assert Path(loaded.native_library).read_bytes() == Path(on_code.native_library).read_bytes()
     else:
         assert loaded.native_library is None
+
+
+def test_dyadc_sweep_names_the_integrator_its_samples_ran_on(decay, each_codegen, tmp_path, capsys):
+    from compiler.cli import main
+    source = write_decay(tmp_path)
+    assert main(["sweep", str(source), "--stop", "1", "--points", "5", "--serial", "-p", "k=[1,2]"]) == 0
+    named = {"c": "native IDAS", "vm": "CasADi's IDAS"}      # (each_codegen asks for it by name)
+    assert f"ran on serial, on {named[each_codegen]}\n" in capsys.readouterr().err
