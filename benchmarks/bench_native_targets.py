@@ -28,7 +28,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 import bench_switching  # noqa: E402
-from compiler.native import NativeIdasWarning, library, make_integrator  # noqa: E402
+from compiler.runtime.native import NativeIdasWarning, library, make_integrator  # noqa: E402
 from suite import native_events, native_excavator  # noqa: E402
 from suite.doc_blocks import write_block  # noqa: E402
 from suite.problems import Excavator  # noqa: E402

@@ -54,7 +54,7 @@ def cpu(call) -> tuple[float, object]:
 
 def measure(repeats: int, integrator=None) -> dict:
     """`integrator`: None for the default path (the native IDAS driver where it can run), "casadi"
-    for CasADi's IDAS, or compiler.native.make_integrator."""
+    for CasADi's IDAS, or compiler.runtime.native.make_integrator."""
     compilation = api.compile("Hard.PendulumA01", lib_dirs=(str(ROOT / "tests" / "models"),))
     params = {"y0": -L * np.cos(THETA0), "L": L, "g": G}
 

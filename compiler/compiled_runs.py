@@ -6,7 +6,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING, Mapping, Sequence
 
 from compiler import runtime
-from compiler.native.choice import integrator_maker
+from compiler.runtime.native.choice import integrator_maker
 from compiler.simulate import runtime_errors, translate_runtime_error
 
 if TYPE_CHECKING:
@@ -28,7 +28,7 @@ def simulate_compiled(compilation: Compilation | CachedCompilation, stop: float,
     located error ("error"). `integrator`: "native", "casadi", a maker of integrators
     (SimulationOptions), or None: $DYADC_INTEGRATOR, else the native IDAS driver where it can run
     the model and CasADi's IDAS where not, reported as `result.stats["integrator"]` and
-    `["integrator_why"]` (compiler/native/choice.py). The model runs on the code chosen
+    `["integrator_why"]` (compiler/runtime/native/choice.py). The model runs on the code chosen
     for it (compiler/cache/native.py: compiled C where a C compiler is present, built now if need
     be; `codegen` "c" or "vm" asks for one), reported as `result.stats["codegen"]`. A compilation from the
     cache runs its model alone; where a located error needs the sources (a parameter without a
@@ -51,12 +51,17 @@ def simulate_compiled(compilation: Compilation | CachedCompilation, stop: float,
 
 
 def model_for_runs(compilation: Compilation | CachedCompilation, codegen: str | None):
-    """The model the runs of `compilation` take, on their code: the compilation's model itself when
-    its code was chosen, else a copy put on it once (kept with the model: every run of the same
-    compilation gets the same object, and what a run derives, say a state set made from the
-    universal system, is kept in it for the next)."""
+    """The model the runs of `compilation` take, on their code (model_on_its_code), the time a
+    build took recorded in the compilation's timings ("C code")."""
+    return model_on_its_code(compilation.model, codegen, compilation.timings)
+
+
+def model_on_its_code(model, codegen: str | None = None, timings: dict | None = None):
+    """`model` on the code its runs take: the model itself when its code was chosen, else a copy
+    put on it once (kept with the model: every run of the same model gets the same object, and what
+    a run derives, say a state set made from the universal system, is kept in it for the next).
+    `codegen` "c", "vm" or None ($DYADC_CODEGEN, else C where a C compiler is present)."""
     from compiler.cache.codegen_choice import requested
-    model = compilation.model
     current = model.metadata.get("codegen")
     if current is not None and codegen in (None, current):
         return model
@@ -67,7 +72,8 @@ def model_for_runs(compilation: Compilation | CachedCompilation, codegen: str | 
         from compiler.cache.native import start
         began = time.perf_counter()
         chosen = start(model, codegen).finish()
-        compilation.timings["C code"] = time.perf_counter() - began
+        if timings is not None:
+            timings["C code"] = time.perf_counter() - began
         return chosen
     return model.derived(("on its code", codegen), put_on_code)
 

@@ -46,7 +46,7 @@ def each_codegen(request):
     the golden excavator, the Test Set problems); every other numerical test runs on the default
     path alone. The value is the code ("c", "vm"); INTEGRATOR_OF names its integrator."""
     from compiler.lower.ccodegen import find_compiler
-    from compiler.native import INTEGRATOR_VARIABLE, library
+    from compiler.runtime.native import INTEGRATOR_VARIABLE, library
     if request.param == "c" and find_compiler() is None:
         pytest.skip("no C compiler")
     if request.param == "c" and library.driver_library()[0] is None:

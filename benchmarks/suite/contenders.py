@@ -27,7 +27,7 @@ class Failed(Exception):
 
 class DyadcContender:
     """`integrator`: None for the default path (the native IDAS driver where it can run),
-    "casadi" or "native", or what makes the run's integrators (compiler.native.make_integrator,
+    "casadi" or "native", or what makes the run's integrators (compiler.runtime.native.make_integrator,
     named `native`)."""
     def __init__(self, problem: Problem, codegen: str, integrator=None, native: str = ""):
         self.problem = problem

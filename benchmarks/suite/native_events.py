@@ -23,7 +23,7 @@ import numpy as np
 
 import bench_native_idas
 from compiler import api
-from compiler.native import make_integrator
+from compiler.runtime.native import make_integrator
 
 ROOT = Path(__file__).resolve().parents[2]
 EVENT_TESTS = ROOT / "tests" / "runtime" / "test_events.py"

@@ -17,7 +17,7 @@ import pstats
 from pathlib import Path
 
 import bench_native_idas
-from compiler.native import make_integrator
+from compiler.runtime.native import make_integrator
 from compiler.runtime.integrator import COUNTERS
 from suite.contenders import DyadcContender, Failed, ScipyContender
 from suite.matched import RTOLS, SCIPY_METHOD, SCIPY_RTOL, cpu_solve, loosest_matching, tip_error

@@ -51,6 +51,10 @@ def add_compile(sub) -> None:
                                   "packages joined by `__`, e.g. component_tests__pendulum)")
     p.add_argument("--standalone", action="store_true",
                    help="copy the runtime package beside the module (then it needs only casadi and numpy)")
+    p.add_argument("--codegen", choices=["c", "vm"],
+                   help="the code the module runs on, as for `dyadc simulate`: c (the model's compiled C "
+                        "libraries written beside the module) or vm (CasADi's virtual machine); default: "
+                        "c where a C compiler is present ($DYADC_CODEGEN may say otherwise)")
     p.set_defaults(run=run_compile)
 
 
@@ -114,12 +118,15 @@ def run_inspect(args) -> int:
 
 def run_compile(args) -> int:
     from compiler.cli.outputs import check_output_folder
+    from compiler.compiled_runs import model_for_runs
     from compiler.lower.codegen import write_module
     from compiler.lower.generate import module_name
     from compiler.pipeline import compile_spec
     check_output_folder(args.output_dir, "-o")      # before the compile it would otherwise waste
     compilation = compile_spec(args.model, args.lib)
     name = args.name or module_name(compilation.model.name)
-    path = write_module(compilation.model, name, args.output_dir, standalone=args.standalone)
+    # on the code `dyadc simulate` runs it on, so that the module's runs take the same path
+    model = model_for_runs(compilation, args.codegen)
+    path = write_module(model, name, args.output_dir, standalone=args.standalone)
     print(f"wrote {path}")
     return 0

@@ -99,13 +99,16 @@ def check_options(args) -> None:
 
 
 def report(result, args) -> None:
-    """The summary and the engine on stderr; the files written, or the per-sample table."""
+    """The summary and the engine (and the integrator) on stderr; the files written, or the
+    per-sample table."""
+    from compiler.cli.simulate import integrator_named
     print(result.summary(), file=sys.stderr)
     stats = result.stats
     engine = (f"{stats.get('workers')} Dask workers ({stats.get('scheduler')}), "
               f"{stats.get('batch_size')} samples per task" if stats.get("engine") == "dask" else "serial")
     models = stats.get("compiled_models", 1)
-    print(f"ran on {engine}" + (f", {models} compiled models (--recompile)" if models > 1 else ""),
+    ran = f", {integrator_named(stats)}" if stats.get("integrator") else ""
+    print(f"ran on {engine}" + (f", {models} compiled models (--recompile)" if models > 1 else "") + ran,
           file=sys.stderr)
     if args.output:
         trajectories, samples = result.write(args.output)

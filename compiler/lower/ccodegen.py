@@ -92,7 +92,7 @@ def pointwise_functions(model: CompiledModel) -> list[ca.Function]:
 
 def watch_functions(model: CompiledModel) -> list[ca.Function]:
     """`dyad_watch(x, z, p, t, atol)`: the zero functions a run watches (runtime/watches.py, the
-    same rows in the same order), for the root finding of the native IDAS driver (compiler/native),
+    same rows in the same order), for the root finding of the native IDAS driver (compiler/runtime/native),
     which calls it from C; `atol` is an input because the bounds' slack depends on the run's
     absolute tolerance. None of it for a model that watches nothing."""
     x, z, p, t = symbols = model.symbols()

@@ -21,7 +21,7 @@ from pathlib import Path
 
 from compiler.runtime.native_build import find_compiler
 
-from .library import LIBRARY_PATH
+from compiler.runtime.native.library import LIBRARY_PATH
 
 ARCHIVE_URL = ("https://files.pythonhosted.org/packages/b0/ab/"
                "aeebac08b65fa7110934ed0938d48f1e3cdfed00361a09ca10d70e2ccf92/amici-1.1.0.tar.gz")

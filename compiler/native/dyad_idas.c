@@ -1,5 +1,5 @@
 /* dyadc's native IDAS driver: SUNDIALS IDAS on a model's CasADi-generated C functions, called
- * from Python through ctypes (compiler/native/library.py). The residual, its Jacobian and the
+ * from Python through ctypes (compiler/runtime/native/library.py). The residual, its Jacobian and the
  * watched zero functions are evaluated in C (dyad_idas_model.c), from the model's shared library,
  * so a run makes no Python call per evaluation. One call of
  * dyad_ida_advance steps IDAS in one-step mode to a stop time, writes the output times it passes

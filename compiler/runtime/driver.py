@@ -10,13 +10,13 @@ from . import interrupts
 from .errors import SimulationFailed, SimulationInterrupted
 from .initialization import InitialPoint, consistent_initialization
 from .model import CompiledModel
+from .native.choice import integrator_maker
 from .options import SimulationOptions
 from .progress import Progress
 from .relations import settle_relations
 from .result import Result
 from .run_loop import integrate
 from .run_state import RunState, StateSetSwitcher, switched_factor
-from .sampled_idas import SampledIdas
 from .segments import segment_ends, with_clock
 from .static import solve_static
 from .universal import UniversalSwitcher
@@ -40,14 +40,17 @@ def simulate(model: CompiledModel, stop: float | None = None, *, options: Simula
     gives another switcher.
 
     Either pass `options` or the same settings as keywords (stop, start, points, saveat, rtol, atol,
-    params, max_steps, max_step, breakpoints, integrator_options, progress)."""
+    params, max_steps, max_step, breakpoints, integrator_options, progress, integrator). The
+    integrator is the one choice of native/choice.py, whoever calls: the native IDAS driver where
+    it can run the model, else CasADi's IDAS, named in `stats["integrator"]` with the reason in
+    `stats["integrator_why"]`."""
     if options is None:
         options = SimulationOptions(stop=stop, **settings)
     elif stop is not None or settings:
         raise TypeError("pass either options or keyword settings, not both")
     options = options.validated()
     run = RunState(model, options, switcher if switcher is not None else default_switcher(model),
-                   options.integrator or SampledIdas)
+                   integrator_maker(options.integrator))
     p = model.parameter_vector(options.params)
     run.parameters = model.named_parameters(p)
     run.ends = segment_ends(model, p, options)

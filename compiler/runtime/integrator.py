@@ -2,7 +2,7 @@
 gets back. The loop says where a call starts, how far it may go and which output times it wants;
 the integrator goes there and says where and why it stopped (docs/runtime.md, "The Integrator
 interface"). Implementations: `SampledIdas` (sampled_idas.py, IDAS through CasADi, crossings found
-at check times after each call) and `NativeIdas` (compiler/native/, IDAS's own root finding).
+at check times after each call) and `NativeIdas` (compiler/runtime/native/, IDAS's own root finding).
 """
 from __future__ import annotations
 

@@ -14,6 +14,8 @@ from .errors import ModelInputError, did_you_mean
 
 MAX_OUTPUT_POINTS = 10_000_000
 SMALLEST_TOLERANCE = 1e-100   # below this a tolerance means nothing to IDAS (atol 1e-300 never ends)
+# the integrators a run can ask for by name (native/choice.py makes them)
+CHOICES = ("casadi", "native")
 SHORTEST_SPAN = 1e-12         # relative: a span below this is round-off
 
 
@@ -35,11 +37,11 @@ class SimulationOptions:
     # a declared min/max left during the run: "warn" (Dyad's and Modelica's reading: bounds are
     # metadata, checked) goes on with a warning, "error" stops the run there
     bounds: str = "warn"
-    # what makes the run's integrators, make_integrator(model, idas options, watch, tally) ->
-    # Integrator (integrator.py); None: CasADi's IDAS (sampled_idas.SampledIdas), the runtime's own.
-    # Runs through the compiler (compiled_runs.simulate_compiled) get the native IDAS driver where it
-    # can run the model (compiler.native.integrator_maker)
-    integrator: Callable | None = None
+    # what makes the run's integrators: "native", "casadi", a maker
+    # make_integrator(model, idas options, watch, tally) -> Integrator (integrator.py), or None:
+    # $DYADC_INTEGRATOR, else the native IDAS driver where it can run the model and CasADi's IDAS
+    # where not, the reason reported (native/choice.py: the one choice every caller of simulate gets)
+    integrator: Callable | str | None = None
 
     def validated(self) -> "SimulationOptions":
         start, stop = _finite("start", self.start), _finite("stop", self.stop)
@@ -57,9 +59,10 @@ class SimulationOptions:
             _positive("max_step", self.max_step)
         if self.bounds not in ("warn", "error"):
             raise ModelInputError(f"bounds must be 'warn' or 'error', got {self.bounds!r}")
-        if self.integrator is not None and not callable(self.integrator):
-            raise ModelInputError(f"integrator must make integrators (a callable, e.g. "
-                                  f"compiler.native.make_integrator), got {self.integrator!r}")
+        if self.integrator is not None and not callable(self.integrator) and self.integrator not in CHOICES:
+            raise ModelInputError(f"integrator must be {' or '.join(map(repr, CHOICES))} or make "
+                                  f"integrators (a callable, e.g. compiler.runtime.native.make_integrator), "
+                                  f"got {self.integrator!r}")
         if int(self.max_steps) < 1:
             raise ModelInputError(f"max_steps must be at least 1, got {self.max_steps}")
         if self.saveat is None:

@@ -108,8 +108,18 @@ def sweep(model, grid_or_samples, options: SweepOptions | Mapping, scheduler: st
                         hint="restart the workers (a `dask worker` started with a nanny is restarted "
                              "when it dies) and run the sweep again") from None
     stats["compiled_models"] = prepared.compiled
+    stats.update(integrators_of(outcomes.values()))
     return SweepResult(compiled.name, design, job, outcomes, complete=True, stats=stats,
                        units=_units(compiled))
+
+
+def integrators_of(outcomes) -> dict[str, str]:
+    """What ran the samples, as a run's stats say it (Result.stats["integrator"] and
+    ["integrator_why"]): every integrator and reason that ran a sample, sorted, comma-separated."""
+    ran = sorted({name for o in outcomes if o.integrator for name in o.integrator.split(", ")})
+    why = sorted({o.integrator_why for o in outcomes if o.integrator_why})
+    return {**({"integrator": ", ".join(ran)} if ran else {}),
+            **({"integrator_why": "; ".join(why)} if why else {})}
 
 
 def _keep_partial(compiled: CompiledModel, design: Design, job: Job, outcomes: dict,

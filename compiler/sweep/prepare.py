@@ -1,6 +1,7 @@
 """Client side, before anything runs: compile the model (once, or once per structural case with
-`recompile`), check every swept name against it, and pack what the workers get: one payload per
-compiled model with the samples that run on it."""
+`recompile`), put it on the code a `dyadc simulate` of it runs on (compiled C where a C compiler is
+present, compiled_runs.model_for_runs), check every swept name against it, and pack what the
+workers get: one payload per compiled model (with its C libraries) with the samples that run on it."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -43,7 +44,7 @@ def prepare(model, design: Design, lib_dirs: Sequence[str], recompile: bool) -> 
     parts, first = [], None
     for case, members in groups.items():            # compiled once per distinct value
         case_compilation = compile_case(model, lib_dirs, case)
-        case_model = case_compilation.model
+        case_model = on_its_code(case_compilation)
         try:
             check_parameters(case_model, runtime_names,
                              {p.name: p for p in case_compilation.flat.parameters})
@@ -55,16 +56,24 @@ def prepare(model, design: Design, lib_dirs: Sequence[str], recompile: bool) -> 
 
 
 def compile_model(model, lib_dirs: Sequence[str]):
-    """(the compiled model, its flat parameters by name, the Compilation or None)."""
+    """(the compiled model on its code, its flat parameters by name, the Compilation or None)."""
+    from compiler.compiled_runs import model_on_its_code
     if isinstance(model, CompiledModel):
-        return model, {}, None
+        return model_on_its_code(model), {}, None
     if isinstance(model, str):
         from compiler.pipeline import compile_spec
         model = compile_spec(model, lib_dirs)
     if not hasattr(model, "model") or not hasattr(model, "flat"):
         raise DyadError(f"cannot sweep a {type(model).__name__}",
                         hint="pass a MODEL spec, a Compilation (compiler.api.compile) or a CompiledModel")
-    return model.model, {p.name: p for p in model.flat.parameters}, model
+    return on_its_code(model), {p.name: p for p in model.flat.parameters}, model
+
+
+def on_its_code(compilation) -> CompiledModel:
+    """The compilation's model on the code its `dyadc simulate` runs on: the same object, so the
+    same C library and the same numbers (a CompiledModel given alone is put on the same code)."""
+    from compiler.compiled_runs import model_for_runs
+    return model_for_runs(compilation, None)
 
 
 def payload_of(model: CompiledModel) -> ModelPayload:

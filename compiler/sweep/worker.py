@@ -1,35 +1,54 @@
 """What runs on a worker: deserialize the compiled model once per process, run a batch of samples.
 
+A worker runs the model on the code and integrator a `dyadc simulate` of it uses: the payload
+carries the model's compiled C libraries (its own and each state set's), written once per process
+to a folder of the worker's and loaded from there, and `simulate` chooses the integrator as for any
+run (the native IDAS driver where it can run the model), so a sample and a `dyadc simulate` with
+the same parameters give the same numbers. Each outcome names the integrator that ran it.
+
 This module (and everything it imports) must stay free of the compiler proper: a worker imports
 compiler.runtime (casadi + numpy), compiler.errors and the metric evaluator, never sympy or lark.
 tests/sweep checks that in real worker processes.
 """
 from __future__ import annotations
 
+import atexit
 import hashlib
 import math
 import pickle
+import shutil
+import tempfile
+import threading
 import time as _time
+from pathlib import Path
 from dataclasses import dataclass, field
 from typing import Mapping, Sequence
 
 import numpy as np
 
 from compiler.runtime import CompiledModel, ModelInputError, SimulationFailed, simulate
+from compiler.runtime.variants import variant_label
 from compiler.sweep.metrics import Metric
 
 
 @dataclass(frozen=True)
 class ModelPayload:
     """A compiled model as it travels: its serialized dict (with the state-set variants a switching
-    model carries, CompiledModel.variants) and a digest naming it."""
+    model carries, CompiledModel.variants), the bytes of its compiled C libraries by state set ("" the
+    model's own, else the variant's variant_label; none for a model on CasADi's VM) and a digest
+    naming both."""
     digest: str
     data: Mapping
+    libraries: Mapping[str, bytes] = field(default_factory=dict)
 
     @classmethod
     def of(cls, model: CompiledModel) -> "ModelPayload":
         data = model.to_dict()
-        return cls(hashlib.sha256(pickle.dumps(data, protocol=4)).hexdigest(), data)
+        paths = {"": model.native_library,
+                 **{variant_label(k): v.native_library for k, v in model.variants.items()}}
+        libraries = {label: Path(path).read_bytes() for label, path in sorted(paths.items())
+                     if path is not None}
+        return cls(hashlib.sha256(pickle.dumps((data, libraries), protocol=4)).hexdigest(), data, libraries)
 
 
 @dataclass(frozen=True)
@@ -57,6 +76,8 @@ class Outcome:
     values: dict[str, np.ndarray] = field(default_factory=dict)
     metrics: dict[str, float] = field(default_factory=dict)
     worker: str = "local"
+    integrator: str | None = None       # what ran the sample (Result.stats["integrator"])
+    integrator_why: str | None = None   # why not the native IDAS driver, where it did not run it
 
 
 _MODELS: dict[str, CompiledModel] = {}     # per process: deserialized once, reused by every batch
@@ -68,8 +89,38 @@ def load_model(payload: ModelPayload) -> CompiledModel:
     if model is None:
         if len(_MODELS) >= _KEEP:
             _MODELS.pop(next(iter(_MODELS)))     # the oldest: workers serve one sweep at a time
-        model = _MODELS[payload.digest] = CompiledModel.from_dict(payload.data)
+        model = _MODELS[payload.digest] = on_libraries(CompiledModel.from_dict(payload.data),
+                                                       payload.libraries)
     return model
+
+
+def on_libraries(model: CompiledModel, libraries: Mapping[str, bytes]) -> CompiledModel:
+    """`model` and its variants on the C libraries shipped with it, written to this process's
+    library folder under their content's digest (the same bytes are written once)."""
+    if not libraries:
+        return model
+    paths = {label: _library_file(data) for label, data in libraries.items()}
+    main = model.with_native_library(paths.get(""))
+    return main.replace(variants={dummies: variant.with_native_library(paths.get(variant_label(dummies)))
+                                  for dummies, variant in model.variants.items()})
+
+
+_LIBRARY_FOLDER: list[Path] = []             # this process's folder of shipped libraries, made once
+_LIBRARY_LOCK = threading.Lock()             # a worker may run batches in several threads
+
+
+def _library_file(data: bytes) -> str:
+    with _LIBRARY_LOCK:
+        if not _LIBRARY_FOLDER:
+            folder = Path(tempfile.mkdtemp(prefix="dyadc-sweep-lib-"))
+            atexit.register(shutil.rmtree, folder, True)
+            _LIBRARY_FOLDER.append(folder)
+        path = _LIBRARY_FOLDER[0] / f"dyad_{hashlib.sha256(data).hexdigest()[:32]}.so"
+        if not path.exists():
+            partial = path.with_suffix(".part")
+            partial.write_bytes(data)
+            partial.replace(path)
+        return str(path)
 
 
 def run_batch(payload: ModelPayload, job: Job, batch: Sequence[tuple[int, Mapping[str, float]]]
@@ -106,7 +157,9 @@ def run_sample(model: CompiledModel, job: Job, sample: int, params: Mapping[str,
     except Exception as err:                    # noqa: BLE001 - one bad sample must not end the sweep
         return _failed(sample, began, f"{type(err).__name__}: {err}", None)
     outcome = Outcome(sample, True, 0.0, time=result.time,
-                      values={name: np.asarray(result[name], dtype=float) for name in job.variables})
+                      values={name: np.asarray(result[name], dtype=float) for name in job.variables},
+                      integrator=result.stats.get("integrator"),
+                      integrator_why=result.stats.get("integrator_why"))
     for metric in job.metrics:
         try:
             outcome.metrics[metric.label] = metric.evaluate(result.__getitem__, result.time)

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from compiler.native import library
+from compiler.runtime.native import library
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
 import bench_native_targets  # noqa: E402

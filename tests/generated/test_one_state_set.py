@@ -14,9 +14,8 @@ from tests.generated.fresh_process import run_json
 ROOT = Path(__file__).resolve().parents[2]
 MODELS = ROOT / "tests" / "structure" / "models"
 SPEC = "StructureModels.CartesianPendulumHigh"
-# generated modules run on CasADi's IDAS (runtime.simulate; docs/runtime.md): the in-process
-# references here too, number for number
-REFERENCE_INTEGRATOR = "casadi"
+# the module is on the VM, so it runs CasADi's IDAS (runtime.simulate's choice; docs/runtime.md):
+# the in-process references run on the VM too
 
 
 @pytest.fixture(scope="module")
@@ -46,7 +45,7 @@ def test_module_matches_the_compiler_while_its_state_set_holds(module_dir):
     out = run_module(module_dir, 0.5)
     assert "error" not in out and out["compiler_loaded"] == []
     reference = api.simulate_compiled(api.compile(SPEC, lib_dirs=(str(MODELS),)), 0.5, rtol=1e-10, atol=1e-10,
-                                      points=51, integrator=REFERENCE_INTEGRATOR)
+                                      points=51, codegen="vm")
     assert reference.stats["state_switches"] == []            # the first switch is at about 0.57 s
     assert np.max(np.abs(np.array(out["x"]) - reference["x"])) < 1e-12
 
@@ -54,7 +53,7 @@ def test_module_matches_the_compiler_while_its_state_set_holds(module_dir):
 def test_module_stops_where_the_compiler_would_switch_state_sets(module_dir):
     out = run_module(module_dir, 1.0)
     reference = api.simulate_compiled(api.compile(SPEC, lib_dirs=(str(MODELS),)), 1.0, rtol=1e-10, atol=1e-10,
-                                      points=101, integrator=REFERENCE_INTEGRATOR)
+                                      points=101, codegen="vm")
     first_switch = reference.stats["state_switches"][0]["time"]
     assert out.get("time") == pytest.approx(first_switch, abs=1e-12)
     assert "stopped at t = " in out["error"] and "(y, v) degrades here" in out["error"]

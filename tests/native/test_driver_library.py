@@ -1,4 +1,4 @@
-"""The native IDAS driver library (compiler/native) loads and integrates closed-form problems to
+"""The native IDAS driver library (compiler/runtime/native) loads and integrates closed-form problems to
 their exact answers: an ODE (exponential decay) and an index-1 DAE (an oscillator whose force is
 an algebraic unknown), through the same C functions dyadc generates for a model."""
 from __future__ import annotations
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from compiler.lower import ccodegen
-from compiler.native import library
+from compiler.runtime.native import library
 
 pytestmark = pytest.mark.skipif(library.driver_library()[0] is None,
                                 reason="native IDAS driver not built (make install builds it)")

@@ -1,4 +1,4 @@
-"""Which integrator a run through the compiler gets (compiler/native/choice.py): the native IDAS
+"""Which integrator a run through the compiler gets (compiler/runtime/native/choice.py): the native IDAS
 driver by default where it can run the model, CasADi's IDAS where it cannot, with the reason in
 Result.stats and on the summary line; `integrator=`, `--integrator` and $DYADC_INTEGRATOR choose."""
 from __future__ import annotations
@@ -8,7 +8,7 @@ import warnings
 import pytest
 
 from compiler import api
-from compiler.native import INTEGRATOR_VARIABLE, NativeIdasWarning, library
+from compiler.runtime.native import INTEGRATOR_VARIABLE, NativeIdasWarning, library
 
 pytestmark = pytest.mark.skipif(library.driver_library()[0] is None,
                                 reason="native IDAS driver not built (make install builds it)")
@@ -95,3 +95,28 @@ def test_the_summary_line_names_the_integrator(leaves, capsys):
     assert main(["simulate", leaves, "--stop", "2", "--codegen", "c", "--no-cache",
                  "--integrator", "casadi"]) == 0
     assert " s on CasADi's IDAS: " in capsys.readouterr().err
+
+
+def test_a_direct_runtime_call_makes_the_same_choice_as_the_compiler(compilation):
+    """runtime.simulate applies the choice itself (it lives in the runtime), so a caller without
+    the compiler (a script, a generated module, a sweep worker) takes the path simulate_compiled
+    takes: in C the native driver with the same numbers; a model not yet on its code (the
+    compilation's own, on the VM) runs CasADi's IDAS and says why."""
+    from compiler import runtime
+    from compiler.compiled_runs import model_on_its_code
+    through_the_compiler = run(compilation, codegen="c")
+    direct = runtime.simulate(model_on_its_code(compilation.model, "c"), 2.0, points=5)
+    assert direct.stats["integrator"] == through_the_compiler.stats["integrator"] == "native"
+    assert (direct.values == through_the_compiler.values).all()
+    on_the_vm = runtime.simulate(compilation.model, 2.0, points=5)
+    assert on_the_vm.stats["integrator"] == "casadi"
+    assert on_the_vm.stats["integrator_why"] == ("it has no C library (a state set made at run time, "
+                                                 "or a model lowered without C code)")
+    by_name = runtime.simulate(model_on_its_code(compilation.model, "c"), 2.0, points=5, integrator="casadi")
+    assert by_name.stats["integrator"] == "casadi" and "integrator_why" not in by_name.stats
+
+
+def test_an_unknown_integrator_name_is_refused():
+    from compiler import runtime
+    with pytest.raises(runtime.ModelInputError, match="integrator must be 'casadi' or 'native' or make"):
+        runtime.SimulationOptions(stop=1.0, integrator="fast").validated()

@@ -105,9 +105,11 @@ relations
 
 def test_a_bound_crossed_between_output_points_stops_the_run_where_it_is_crossed(tmp_path):
     from compiler import runtime
+    from compiler.compiled_runs import model_on_its_code
     from compiler.lower.to_casadi import lower
     from tests.runtime.runtime_systems import draining
-    model = lower(draining())
+    # on the code and integrator this module's each_codegen asks for (a direct call makes the choice too)
+    model = model_on_its_code(lower(draining()))
     with pytest.raises(runtime.SimulationFailed) as failure:
         runtime.simulate(model, 3.0, points=2, rtol=1e-8, atol=1e-10, bounds="error")   # outputs at 0, 3
     assert failure.value.variable == "x"
@@ -117,10 +119,12 @@ def test_a_bound_crossed_between_output_points_stops_the_run_where_it_is_crossed
 
 def test_a_bound_left_is_warned_of_once_where_it_is_crossed_and_the_run_goes_on(tmp_path):
     from compiler import runtime
+    from compiler.compiled_runs import model_on_its_code
     from compiler.lower.to_casadi import lower
     from compiler.runtime.checks import BoundWarning
     from tests.runtime.runtime_systems import draining
-    model = lower(draining())
+    # on the code and integrator this module's each_codegen asks for (a direct call makes the choice too)
+    model = model_on_its_code(lower(draining()))
     with pytest.warns(BoundWarning) as caught:
         result = runtime.simulate(model, 3.0, points=2, rtol=1e-8, atol=1e-10)
     assert len(caught) == 1 and "left its declared min = 0" in str(caught[0].message)

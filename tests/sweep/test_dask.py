@@ -99,6 +99,8 @@ def test_a_local_cluster_of_two_processes_equals_the_serial_run(decay, serial):
     assert result.stats["engine"] == "dask" and result.stats["workers"] == 2
     assert len(serial.failed) == 8
     assert_same_outcomes(result, serial)
+    # the workers run the integrator the serial run (and `dyadc simulate`) runs (test_same_path.py)
+    assert result.stats["integrator"] == serial.stats["integrator"]
     workers = {o.worker for o in result.outcomes.values()}
     assert len(workers - {"local"}) == 2                       # both processes worked
 

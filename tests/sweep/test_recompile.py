@@ -21,9 +21,9 @@ def simulate_with_size(folder, n: int, k: float):
     assert f"n::Integer = {n}\n" in source
     (folder / "Decay.dyad").write_text(source, encoding="utf-8")
     out = folder / f"k{k}.csv"
-    # a sweep's workers run CasADi's IDAS (they get the model without its C library: docs/sweeps.md)
+    # a sweep's workers run on the path `dyadc simulate` takes (docs/sweeps.md)
     assert cli.main(["simulate", str(folder / "Decay.dyad"), "--stop", "1", "--points", "11",
-                     "-p", f"k={k}", "--output", str(out), "--integrator", "casadi"]) == 0
+                     "-p", f"k={k}", "--output", str(out)]) == 0
     return read_csv(out)
 
 

@@ -23,12 +23,11 @@ def pendulum():
 
 
 def separate_runs(design):
-    """Each sample run on its own fresh compilation by the compiler's own simulate, on CasADi's
-    IDAS as a sweep's workers run it (they get the model without its C library: docs/sweeps.md)."""
+    """Each sample run on its own fresh compilation by the compiler's own simulate, on the path
+    it chooses, which a sweep's workers take too (docs/sweeps.md)."""
     runs = {}
     for sample, params in enumerate(design):
-        result = api.simulate_compiled(pendulum(), RUN["stop"], points=RUN["points"], params=params,
-                                       integrator="casadi")
+        result = api.simulate_compiled(pendulum(), RUN["stop"], points=RUN["points"], params=params)
         runs[sample] = result
     return runs
 

@@ -10,15 +10,15 @@ from typing import Mapping
 
 import numpy as np
 
-from compiler.runtime.checks import RUNAWAY_LIMIT, check_divergence
-from compiler.runtime.crossings import proposing_rows, root_directions
-from compiler.runtime.errors import SimulationFailed
-from compiler.runtime.idas import idas_reason
-from compiler.runtime.integrator import FAILED, REACHED, Call, Stop, Tally
-from compiler.runtime.model import CompiledModel
-from compiler.runtime.state_sets import degraded_level
-from compiler.runtime.switching import all_outputs
-from compiler.runtime.watches import Watch
+from ..checks import RUNAWAY_LIMIT, check_divergence
+from ..crossings import proposing_rows, root_directions
+from ..errors import SimulationFailed
+from ..idas import idas_reason
+from ..integrator import FAILED, REACHED, Call, Stop, Tally
+from ..model import CompiledModel
+from ..state_sets import degraded_level
+from ..switching import all_outputs
+from ..watches import Watch
 
 from . import library
 

@@ -10,16 +10,16 @@ import os
 import warnings
 from typing import Callable, Mapping
 
-from compiler.runtime.integrator import Integrator, Tally
-from compiler.runtime.model import CompiledModel
-from compiler.runtime.sampled_idas import SampledIdas
-from compiler.runtime.watches import Watch
+from ..integrator import Integrator, Tally
+from ..model import CompiledModel
+from ..options import CHOICES
+from ..sampled_idas import SampledIdas
+from ..watches import Watch
 
 from . import library
 from .integrator import NativeIdas, unhonoured_options
 
 INTEGRATOR_VARIABLE = "DYADC_INTEGRATOR"
-CHOICES = ("casadi", "native")
 
 
 class NativeIdasWarning(UserWarning):
