@@ -4,9 +4,10 @@ Level by level, from the most-differentiated equations down: the rows are the eq
 differentiation, the columns the candidate derivatives; pick as many independent columns as rows.
 Independent column sets form a matroid (structurally: transversal; numerically: linear), so a
 greedy pass in order of preference picks a best basis. Preference (runtime.selection_rules,
-shared with the run-time choice): a derivative of a variable with a LOW state priority becomes a
-dummy first (so hinted variables stay states); within one priority class, the numerically
-largest remaining column (pivoting) when a point is given.
+shared with the run-time choice): a derivative of a variable with a LOW state priority
+(state_priority: the declared one, lowered for variables only the index reduction differentiates)
+becomes a dummy first (so hinted variables stay states); within one priority class, the
+numerically largest remaining column (pivoting) when a point is given.
 """
 from __future__ import annotations
 
@@ -28,6 +29,11 @@ class DummySelection:
     deficient: bool = False                  # a level had fewer independent columns than rows
     pivot_conditions: list[float] = field(default_factory=list)   # per level, when numeric
 
+    @property
+    def numeric(self) -> bool:
+        """Whether every level was chosen by pivoting (not by names, for want of finite values)."""
+        return len(self.pivot_conditions) == len(self.levels)
+
 
 def base_variable(system: IndexedSystem, v: int, diff_to_var: list[int]) -> int:
     while diff_to_var[v] >= 0:
@@ -41,6 +47,26 @@ def declared_priority(system: IndexedSystem, priorities: Mapping[str, int]) -> C
 
     def priority(v: int) -> int:
         return priorities.get(system.names[base_variable(system, v, diff_to_var)], 0)
+    return priority
+
+
+def state_priority(system: IndexedSystem, priorities: Mapping[str, int]) -> Callable[[int], int]:
+    """The state priority of a candidate, as the compiler's choice, the run-time choice and the
+    list of state sets order it: twice the declared priority of its base variable, less one where
+    the model never differentiates that variable (der(g) only appears in equations the index
+    reduction differentiated, g = f(y) say): between equal declared priorities its derivative is
+    rather a dummy, and the variables the model differentiates stay states. So an auxiliary
+    named for part of a constraint (`aux = d[2]^2` inside `L = sqrt(d[1]^2 + aux)`) does not
+    take the place of the position the model integrates."""
+    diff_to_var = system.diff_to_var()
+    diff_to_eq = system.diff_to_eq()
+    # the base variable: `der(der(x))` written in the model differentiates x (not only der(x))
+    differentiated = {base_variable(system, d, diff_to_var) for e in range(system.n_eqs) if diff_to_eq[e] < 0
+                      for d in system.incidence[e] if diff_to_var[d] >= 0}
+    declared = declared_priority(system, priorities)
+
+    def priority(v: int) -> int:
+        return 2 * declared(v) - (0 if base_variable(system, v, diff_to_var) in differentiated else 1)
     return priority
 
 

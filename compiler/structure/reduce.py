@@ -15,7 +15,7 @@ from compiler.structure.derivative_rank import RankReport, remove_derivative_dep
 from compiler.structure.diagnostics import structural_singularity_error
 from compiler.model.symbols import free_symbols
 from compiler.structure.differentiate import partial
-from compiler.structure.dummy_derivatives import DummySelection, declared_priority, select_dummy_derivatives
+from compiler.structure.dummy_derivatives import DummySelection, select_dummy_derivatives, state_priority
 from compiler.structure.index_reduction import IndexReductionReport, reduce_index
 from compiler.structure.indexed import IndexedSystem, build_indexed
 from compiler.structure.initialization import build_initial_problem
@@ -120,15 +120,18 @@ def reduce(flat: FlatSystem, point: dict[str, float] | None = None,
 
 def select_states(system: IndexedSystem, priorities: dict[str, int], flat: FlatSystem,
                   point: dict[str, float] | None, pivots=None) -> DummySelection:
-    priority = declared_priority(system, priorities)
+    priority = state_priority(system, priorities)
     if pivots is not None or point is None:
         selection = select_dummy_derivatives(system, priority, pivots)
     else:
         selection = select_dummy_derivatives(system, priority, _numeric_jacobian(system, flat, point, True))
-        if selection.deficient:     # singular where unknowns without values are 0: those the
-            # equations give explicitly (time-driven positions) computed first
+        if selection.deficient or not selection.numeric:
+            # singular, or not finite (1/sqrt(0)), where unknowns without values are 0: again with
+            # those the equations give explicitly (time-driven positions, auxiliaries) computed first
             completed = completed_point(system, flat, point)
-            selection = select_dummy_derivatives(system, priority, _numeric_jacobian(system, flat, completed, True))
+            retried = select_dummy_derivatives(system, priority, _numeric_jacobian(system, flat, completed, True))
+            if not retried.deficient and (selection.deficient or retried.numeric):
+                selection = retried
         if selection.deficient:     # still singular: the structural choice, as before
             selection = select_dummy_derivatives(system, priority, _numeric_jacobian(system, flat, point, False))
     if selection.deficient:

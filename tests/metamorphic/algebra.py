@@ -102,8 +102,11 @@ def move_terms(component, rng):
 
 
 def one_side(component, rng):
-    """All terms on one side: `a = b` -> `a - b = 0` or `0 = b - a`."""
-    indices = pick(rng, top_level_equations(component))
+    """All terms on one side: `a = b` -> `a - b = 0` or `0 = b - a`. Only scalar equations (one
+    side certainly scalar): an array equation's `0` would need the array's size."""
+    indices = pick(rng, [i for i in top_level_equations(component)
+                         if is_scalar(component.relations[i].lhs, component)
+                         or is_scalar(component.relations[i].rhs, component)])
     for i in indices:
         r = component.relations[i]
         if rng.random() < 0.5:

@@ -13,15 +13,20 @@ from tests.metamorphic.forms import (PREFIX, Rewrite, declarations_by_name, fres
 
 def extract_subexpression(component, rng):
     """A scalar subexpression (a product, a call, a derivative) of an equation named by a new
-    variable: `... f(x) ...` -> `mm_aux = f(x)` and `... mm_aux ...`."""
+    variable: `... f(x) ...` -> `mm_aux = f(x)` and `... mm_aux ...`. Not inside an exponent:
+    `p ^ (1 / 4)` of a pressure p needs a constant exponent (the unit check), `p ^ mm_aux` is refused."""
     options = []
     for i in top_level_equations(component):
         r = component.relations[i]
         if r.initial:
             continue
         for side in ("lhs", "rhs"):
-            for node in walk.nodes(getattr(r, side), walk.arithmetic):
-                if isinstance(node, (ast.BinaryOp, ast.Call, ast.UnaryOp)) and is_scalar(node, component):
+            nodes = list(walk.nodes(getattr(r, side), walk.arithmetic))
+            in_exponents = {id(inner) for node in nodes if isinstance(node, ast.BinaryOp) and node.op == "^"
+                            for inner in walk.nodes(node.right, walk.arithmetic)}
+            for node in nodes:
+                if isinstance(node, (ast.BinaryOp, ast.Call, ast.UnaryOp)) and id(node) not in in_exponents \
+                        and is_scalar(node, component):
                     options.append((i, node))
     if not options:
         return None

@@ -42,22 +42,35 @@ def library_definitions(component: ast.ComponentDef) -> list[tuple[str, Path]]:
 
 def rewrite_subcomponent(component: ast.ComponentDef, seed: int, folder: Path) -> SubcomponentRewrite | None:
     """One library definition `component` instantiates, drawn by `seed`, rewritten (by `seed`) in
-    a copy of its package under `folder`; None where the model uses no library component or no
-    rewrite applies to the one drawn."""
+    a copy of its package under `folder`; where no rewrite applies to the one drawn (a definition
+    without equations of its own), the next in a seeded order; None where none can be rewritten."""
     candidates = library_definitions(component)
     if not candidates:
         return None
-    type_name, source = random.Random(seed).choice(candidates)
+    rng = random.Random(seed)
+    first = rng.choice(candidates)
+    others = [c for c in candidates if c != first]
+    rng.shuffle(others)
+    for type_name, source in [first] + others:
+        change = _rewritten_copy(type_name, source, seed, folder)
+        if change is not None:
+            return change
+    return None
+
+
+def _rewritten_copy(type_name: str, source: Path, seed: int, folder: Path) -> SubcomponentRewrite | None:
+    """`type_name` (defined in `source`) rewritten by `seed` in a fresh copy of its package under
+    `folder`; None (and no copy) where no interface-keeping rewrite applies to it."""
     package = type_name.split(".")[0]
-    target = folder / "lib" / package
-    shutil.copytree(LIBRARY / package, target)
-    path = target / source.relative_to(LIBRARY / package)
-    file = parse_file(path)
+    file = parse_file(source)
     name = type_name.split(".")[-1]
     (definition,) = [d for d in file.definitions if isinstance(d, ast.ComponentDef) and d.name == name]
     rewritten, applied = rewrites.rewrite(definition, seed, allowed=rewrites.INTERFACE_KEEPING)
     if not applied:
         return None
+    target = folder / "lib" / package
+    shutil.copytree(LIBRARY / package, target)
+    path = target / source.relative_to(LIBRARY / package)
     definitions = tuple(rewritten.component if d is definition else d for d in file.definitions)
     path.write_text(format_file(dataclasses.replace(file, definitions=definitions)), encoding="utf-8")
     return SubcomponentRewrite(type_name, folder / "lib", applied)

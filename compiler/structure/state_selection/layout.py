@@ -14,8 +14,7 @@ from typing import TYPE_CHECKING, Callable
 
 from compiler.runtime.variants import selection_output
 from compiler.structure.differentiate import partial
-from compiler.structure.dummy_derivatives import (base_variable, candidate_order, declared_priority, first_level,
-                                                   next_rows)
+from compiler.structure.dummy_derivatives import candidate_order, first_level, next_rows, state_priority
 from compiler.structure.state_selection.folds import alias_folds
 from compiler.structure.indexed import IndexedSystem
 from compiler.structure.reduced import Assignment
@@ -33,23 +32,8 @@ class SelectionLevel:
 
 
 def choice_priority(analysis: Analysis) -> Callable[[int], int]:
-    """The state priority of a candidate as the run-time choice and the list of state sets order
-    it: twice the declared priority of its base variable, less one where the model never
-    differentiates that variable (der(g) only appears in equations the index reduction
-    differentiated, g = f(y) say): between equal declared priorities its derivative is rather a
-    dummy, and the variables the model differentiates stay states. The compiler's first choice
-    orders by the declared priority alone."""
-    system = analysis.system
-    diff_to_var = system.diff_to_var()
-    diff_to_eq = system.diff_to_eq()
-    # the base variable: `der(der(x))` written in the model differentiates x (not only der(x))
-    differentiated = {base_variable(system, d, diff_to_var) for e in range(system.n_eqs) if diff_to_eq[e] < 0
-                      for d in system.incidence[e] if diff_to_var[d] >= 0}
-    declared = declared_priority(system, analysis.priorities)
-
-    def priority(v: int) -> int:
-        return 2 * declared(v) - (0 if base_variable(system, v, diff_to_var) in differentiated else 1)
-    return priority
+    """The state priority of a candidate (dummy_derivatives.state_priority) for `analysis`."""
+    return state_priority(analysis.system, analysis.priorities)
 
 
 def selection_levels(system: IndexedSystem, priority: Callable[[int], int]) -> list[SelectionLevel]:
