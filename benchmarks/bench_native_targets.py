@@ -88,7 +88,10 @@ def target_rows(data: dict) -> list[tuple[str, str, bool, str]]:
                      "; ".join([f"`{label}` {a} times natively, {b} on CasADi's IDAS" for label, a, b in row["unmatched"]]
                                + [f"`{name}` differs by at most {value:.2g}" for name, value in row["shown"].items()])
                      + (f"; signals differ up to {row['worst']:.3g} (atol + rtol max|signal|) in `{row['signal']}`"
-                        if row["worst"] > native_events.AGREEMENT else "")))
+                        if row["worst"] > native_events.AGREEMENT else "")
+                     + (f"; against a run at {native_events.REFERENCE_TIGHTER:g} times smaller tolerances, "
+                        f"`{row['judged_signal']}` is off by {row['native_off']:.3g} natively and "
+                        f"{row['casadi_off']:.3g} on CasADi's IDAS" if "judged_signal" in row else "")))
     return rows
 
 

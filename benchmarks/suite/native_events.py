@@ -10,7 +10,11 @@ ElectricalComponents/dyad and BlockComponents/dyad); without them it says so.
 
 Same numbers: every signal of the two runs on the same grid, |native - CasADi| at most
 AGREEMENT * (atol + rtol * max |signal|), and the same number of events at times within
-AGREEMENT * (atol + rtol * t) of each other.
+AGREEMENT * (atol + rtol * t) of each other. Where a signal differs by more, a reference run
+(CasADi's IDAS at REFERENCE_TIGHTER times smaller tolerances) decides: the native run's largest
+distance from it on that signal is at most REFERENCE_FACTOR times the CasADi run's (both paths
+are about as far from the truth: a signal that amplifies a state's error, such as the op-amp's
+gain times a state, differs between any two runs at the run's tolerance).
 """
 from __future__ import annotations
 
@@ -28,6 +32,11 @@ from compiler.runtime.native import make_integrator
 ROOT = Path(__file__).resolve().parents[2]
 EVENT_TESTS = ROOT / "tests" / "runtime" / "test_events.py"
 AGREEMENT = 100.0
+REFERENCE_TIGHTER = 1e4
+# how much further from the reference the native run may be than CasADi's: two IDAS runs at one
+# tolerance with different step sequences scatter by that much (docs/numerics.md, "Tight
+# tolerances on both paths": the first step alone moved Andrews' error 20x at rtol 1e-10)
+REFERENCE_FACTOR = 10.0
 OPAMP = "ElectricalComponents.AmplifierWithOpAmpDetailed"
 OPAMP_RUN = {"stop": 0.01, "rtol": 1e-6, "atol": 1e-6, "points": 1001}   # 10 of the test's 100 periods
 OPAMP_OUTPUT = "op_amp.outp.v"          # the signal the published test case compares (atol 0.4 V)
@@ -84,19 +93,41 @@ def compare(label: str, compilation, stop: float, settings: dict, repeats: int, 
     timed = bench_native_idas.cpu_runs({"native": run(make_integrator), "casadi": run("casadi")}, repeats)
     (native_s, native), (casadi_s, casadi) = timed["native"], timed["casadi"]
     rtol, atol = settings.get("rtol", 1e-6), settings.get("atol", 1e-6)
-    worst, signal = 0.0, ""
+    worst, signal, apart = 0.0, "", []
     for name in casadi.names:
         a, b = np.asarray(native[name], dtype=float), np.asarray(casadi[name], dtype=float)
         share = float(np.max(np.abs(a - b))) / (atol + rtol * float(np.max(np.abs(b))))
+        if share > AGREEMENT:
+            apart.append(name)
         if share > worst:
             worst, signal = share, name
     events = event_differences(native.events, casadi.events, rtol, atol)
-    return {"case": label, "native_steps": native.stats["steps"], "casadi_steps": casadi.stats["steps"],
+    judged = reference_judgement(compilation, stop, settings, native, casadi, apart) if apart else {}
+    signals_agree = not apart or judged["native_no_further"]
+    return {**judged,"case": label, "native_steps": native.stats["steps"], "casadi_steps": casadi.stats["steps"],
             "native_time": native_s, "casadi_time": casadi_s, "integrator": native.stats.get("integrator"),
             "native_events": len(native.events), "casadi_events": len(casadi.events),
             "worst": worst, "signal": signal, **events,
             "shown": {name: float(np.max(np.abs(native[name] - casadi[name]))) for name in shown},
-            "same": worst <= AGREEMENT and not events["unmatched"] and events["event_share"] <= AGREEMENT}
+            "same": signals_agree and not events["unmatched"] and events["event_share"] <= AGREEMENT}
+
+
+def reference_judgement(compilation, stop: float, settings: dict, native, casadi, signals: list) -> dict:
+    """For each of `signals`, each run's largest distance from a run at REFERENCE_TIGHTER times
+    smaller tolerances (CasADi's IDAS) as {signal: (native, CasADi)}; whether the native run is
+    nowhere further than REFERENCE_FACTOR times CasADi's, and (for the report) the signal where
+    it comes closest to that bound."""
+    tight = dict(settings, rtol=settings.get("rtol", 1e-6) / REFERENCE_TIGHTER,
+                 atol=settings.get("atol", 1e-6) / REFERENCE_TIGHTER)
+    reference = api.simulate_compiled(compilation, stop, progress=False, integrator="casadi", **tight)
+    offs = {}
+    for name in signals:
+        truth = np.asarray(reference[name], dtype=float)
+        offs[name] = tuple(float(np.max(np.abs(np.asarray(run[name], dtype=float) - truth)))
+                           for run in (native, casadi))
+    closest = max(offs, key=lambda name: offs[name][0] / max(offs[name][1], 1e-300))
+    return {"judged_signal": closest, "native_off": offs[closest][0], "casadi_off": offs[closest][1],
+            "offs": offs, "native_no_further": all(n <= REFERENCE_FACTOR * c for n, c in offs.values())}
 
 
 def event_differences(native: list, casadi: list, rtol: float, atol: float) -> dict:

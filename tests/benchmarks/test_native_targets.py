@@ -88,3 +88,33 @@ def test_a_contender_named_by_path_joins_both_scipy_radau_contenders():
                                       "scipy Radau (the reference model as written: restarted at its waypoints)",
                                       "scipy Radau (scipy_excavator)"]
     assert [c.options for c in made] == [{}, {"split_at_waypoints": True}, {}] and callable(made[2].module.run)
+
+
+GAIN_LIMITER = """component GainLimiter
+  variable q::Real
+  variable s::Real
+  variable h::Real
+relations
+  initial q = 0
+  der(q) = 1000 * (1e-4 * sin(2000 * time) - q)
+  s = 1e5 * q
+  h = ifelse(s > 2, 2, ifelse(s < -2, -2, s))
+end
+"""
+
+
+@needs_driver
+def test_a_signal_that_amplifies_a_states_error_is_judged_against_a_tighter_run(tmp_path):
+    """h = a limited 1e5 q differs between the paths by far more than its own tolerance units
+    (tests/native/test_gain_amplified_error.py); the comparison then asks a run at 1e4 times
+    smaller tolerances, and both paths are about as far from it (measured: s off by 0.43 natively
+    and 0.20 on CasADi's IDAS, h by 0.31 and 0.15)."""
+    from compiler import api
+    path = tmp_path / "GainLimiter.dyad"
+    path.write_text(GAIN_LIMITER, encoding="utf-8")
+    row = native_events.compare("gain", api.compile(str(path)), 0.01,
+                                {"rtol": 1e-6, "atol": 1e-6, "points": 1001}, repeats=1)
+    assert row["worst"] > native_events.AGREEMENT and sorted(row["offs"]) == ["h", "s"]
+    for native_off, casadi_off in row["offs"].values():
+        assert 0 < native_off <= 3 * casadi_off
+    assert row["same"]
