@@ -90,17 +90,6 @@ def test_a_contender_named_by_path_joins_both_scipy_radau_contenders():
     assert [c.options for c in made] == [{}, {"split_at_waypoints": True}, {}] and callable(made[2].module.run)
 
 
-GAIN_LIMITER = """component GainLimiter
-  variable q::Real
-  variable s::Real
-  variable h::Real
-relations
-  initial q = 0
-  der(q) = 1000 * (1e-4 * sin(2000 * time) - q)
-  s = 1e5 * q
-  h = ifelse(s > 2, 2, ifelse(s < -2, -2, s))
-end
-"""
 
 
 @needs_driver
@@ -110,8 +99,9 @@ def test_a_signal_that_amplifies_a_states_error_is_judged_against_a_tighter_run(
     smaller tolerances, and both paths are about as far from it (measured: s off by 0.43 natively
     and 0.20 on CasADi's IDAS, h by 0.31 and 0.15)."""
     from compiler import api
+    from tests.native.test_gain_amplified_error import SOURCE
     path = tmp_path / "GainLimiter.dyad"
-    path.write_text(GAIN_LIMITER, encoding="utf-8")
+    path.write_text(SOURCE, encoding="utf-8")
     row = native_events.compare("gain", api.compile(str(path)), 0.01,
                                 {"rtol": 1e-6, "atol": 1e-6, "points": 1001}, repeats=1)
     assert row["worst"] > native_events.AGREEMENT and sorted(row["offs"]) == ["h", "s"]
