@@ -90,8 +90,6 @@ def test_a_contender_named_by_path_joins_both_scipy_radau_contenders():
     assert [c.options for c in made] == [{}, {"split_at_waypoints": True}, {}] and callable(made[2].module.run)
 
 
-
-
 @needs_driver
 def test_a_signal_that_amplifies_a_states_error_is_judged_against_a_tighter_run(tmp_path):
     """h = a limited 1e5 q differs between the paths by far more than its own tolerance units
