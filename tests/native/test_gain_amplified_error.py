@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from compiler import api
-from compiler.native import library
+from compiler.runtime.native import library
 
 pytestmark = pytest.mark.skipif(library.driver_library()[0] is None,
                                 reason="native IDAS driver not built (make install builds it)")
