@@ -5763,9 +5763,7 @@ def model():
             import os as _os
             here = _os.path.dirname(_os.path.abspath(__file__))
             native = {key: _os.path.join(here, name) for key, name in _VARIANT_LIBRARIES.items()}
-            _model = _model.with_native_library(_os.path.join(here, _NATIVE_LIBRARY)).replace(variants={
-                dummies: variant.with_native_library(native.get(",".join(sorted(dummies))))
-                for dummies, variant in _model.variants.items()})
+            _model = _runtime.on_native_libraries(_model, _os.path.join(here, _NATIVE_LIBRARY), native)
     return _model
 
 

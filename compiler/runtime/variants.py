@@ -126,3 +126,12 @@ class VariantSwitcher:
 def variant_label(dummies: frozenset) -> str:
     """A stable text for a set of dummy derivatives (sorted names, comma-separated)."""
     return ",".join(sorted(dummies))
+
+
+def on_native_libraries(model: CompiledModel, own: str | None, by_label: Mapping[str, str]) -> CompiledModel:
+    """`model` on its C library `own` and each state-set variant on `by_label[variant_label(its
+    dummy derivatives)]` (None where a library is not given): how a model that travels without its
+    libraries (a sweep payload, a generated module) is put back on them."""
+    return model.with_native_library(own).replace(variants={
+        dummies: variant.with_native_library(by_label.get(variant_label(dummies)))
+        for dummies, variant in model.variants.items()})

@@ -26,7 +26,7 @@ from typing import Mapping, Sequence
 
 import numpy as np
 
-from compiler.runtime import CompiledModel, ModelInputError, SimulationFailed, simulate
+from compiler.runtime import CompiledModel, ModelInputError, SimulationFailed, on_native_libraries, simulate
 from compiler.runtime.variants import variant_label
 from compiler.sweep.metrics import Metric
 
@@ -100,9 +100,7 @@ def on_libraries(model: CompiledModel, libraries: Mapping[str, bytes]) -> Compil
     if not libraries:
         return model
     paths = {label: _library_file(data) for label, data in libraries.items()}
-    main = model.with_native_library(paths.get(""))
-    return main.replace(variants={dummies: variant.with_native_library(paths.get(variant_label(dummies)))
-                                  for dummies, variant in model.variants.items()})
+    return on_native_libraries(model, paths.get(""), paths)
 
 
 _LIBRARY_FOLDER: list[Path] = []             # this process's folder of shipped libraries, made once
