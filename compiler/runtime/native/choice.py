@@ -49,7 +49,7 @@ def integrator_maker(integrator: str | Callable | None = None) -> Callable[..., 
     return make_integrator if choice == "native" else make_default_integrator
 
 
-def why_not_native(model: CompiledModel, options: Mapping, watch: Watch | None) -> str | None:
+def why_not_native(model: CompiledModel, options: Mapping) -> str | None:
     """Why the native driver cannot run `model` with `options`; None where it can."""
     lib, why = library.driver_library()
     if lib is None:
@@ -69,7 +69,7 @@ def why_not_native(model: CompiledModel, options: Mapping, watch: Watch | None) 
 def native_or_why(model: CompiledModel, options: Mapping, watch: Watch | None,
                   tally: Tally) -> tuple[Integrator | None, str | None]:
     """The native IDAS driver on `model`, or None and why it cannot run it."""
-    why = why_not_native(model, options, watch)
+    why = why_not_native(model, options)
     if why is None:
         try:
             return NativeIdas(model, options, watch, tally,
