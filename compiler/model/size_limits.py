@@ -108,28 +108,41 @@ def _bits(value: sympy.Rational) -> int:
 
 
 def checked_power(base: Any, exponent: Any, span: Span | None) -> Any:
-    """base ** exponent, except that an exact power of constants too large to fold exactly is
-    evaluated as a float; a result beyond a float is a located error."""
+    """base ** exponent, except that a power of constants too large to fold exactly is evaluated
+    as a float (a float operand makes it one anyway); a result beyond a float is a located error."""
     import sympy
-    if not (isinstance(base, sympy.Rational) and isinstance(exponent, sympy.Rational)):
+    numbers = (sympy.Rational, sympy.Float)
+    if not (isinstance(base, numbers) and isinstance(exponent, numbers)):
         return base ** exponent
     if abs(base) in (0, 1) or exponent.is_zero:
         return base ** exponent
-    estimate = abs(exponent) * _bits(base)
-    if estimate <= MAX_EXACT_BITS:
+    exact = isinstance(base, sympy.Rational) and isinstance(exponent, sympy.Rational)
+    if exact and abs(exponent) * _bits(base) <= MAX_EXACT_BITS:
         return base ** exponent
     try:
         value = math.pow(float(base), float(exponent))
-    except OverflowError:
-        digits = float(exponent) * (math.log10(abs(int(base.p))) - math.log10(int(base.q)))
-        raise DyadError(f"the power {_short(base)}^{_short(exponent)} is too large: about "
-                        f"10^{int(digits):,}, beyond a 64-bit float (at most about 1.8e308)", span,
-                        hint="a constant this large is almost always a typo (`9^9^9` is 9^(9^9))") from None
     except ValueError:
         raise DyadError(f"the power {_short(base)}^{_short(exponent)} is not a real number", span) from None
+    except OverflowError:
+        value = math.inf
+    if not math.isfinite(value):
+        digits = float(exponent) * float(sympy.log(abs(base), 10).evalf())
+        raise DyadError(f"the power {_short(base)}^{_short(exponent)} is too large: about "
+                        f"10^{_magnitude(digits)}, beyond a 64-bit float (at most about 1.8e308)", span,
+                        hint="a constant this large is almost always a typo (`9^9^9` is 9^(9^9))")
     return sympy.Float(value)
 
 
-def _short(value: sympy.Rational) -> str:
+def _short(value: Any) -> str:
+    import sympy
+    if isinstance(value, sympy.Float):
+        text = repr(float(value)) if abs(value) < 1e308 else str(value)
+        text = text if len(text) <= 12 else f"{float(value):.6g}"
+        return text if value >= 0 else f"({text})"
     text = str(value) if value >= 0 and value.is_Integer else f"({value})"
     return text if len(text) <= 30 else f"({text[:12]}...{text[-6:]}, {len(text)} characters)"
+
+
+def _magnitude(digits: float) -> str:
+    """The decimal exponent of a too-large power: grouped digits, or in e-notation when longer."""
+    return f"{int(digits):,}" if digits < 1e15 else f"{digits:.3g}"

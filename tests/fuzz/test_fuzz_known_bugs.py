@@ -133,6 +133,21 @@ def test_a_power_tower_is_a_located_error_at_once(fuzz_base):
     _assert_located(outcome, path, 3, "the power 9^387420489 is too large: about 10^369,693,099")
 
 
+@pytest.mark.parametrize("power, words", [
+    ("4.0^4.0^4.0^4.0", "the power 4.0^1.34078e+154 is too large: about 10^8.07e+153"),
+    ("2.0^2000.0", "the power 2.0^2000.0 is too large: about 10^602"),
+    ("(-8.0)^(1/3)", "the power (-8.0)^(1/3) is not a real number"),
+], ids=["float-tower", "beyond-float", "negative-base"])
+def test_a_power_of_floats_is_checked_like_one_of_integers(fuzz_base, power, words):
+    # found by the fuzzer (2000 examples, 2026-11-28): a float tower was an internal OverflowError
+    # ("too many digits in integer") from sympy's arbitrary-precision power
+    work = example_dir(fuzz_base)
+    path = _oscillator_with(work, "4.0", power)
+    outcome = run_in_process(["check", path], work)
+    _assert_clear(outcome, HANG_LIMIT_S)
+    _assert_located(outcome, path, 3, words)
+
+
 # ------------------------------------ was exponent-size and huge-size: no estimate before allocating
 
 @pytest.mark.parametrize("declaration, words", [
