@@ -45,7 +45,7 @@ def _solved(equation: sympy.Expr, unknown: sympy.Symbol, known: dict) -> float |
     try:
         rest = float(equation.xreplace({unknown: sympy.Integer(0)}).xreplace(known))
         slope = float(coefficient.xreplace(known))
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):   # symbolic, complex, or beyond any float
         return None
     if slope == 0.0 or not math.isfinite(rest / slope):
         return None

@@ -148,6 +148,18 @@ def test_a_power_of_floats_is_checked_like_one_of_integers(fuzz_base, power, wor
     _assert_located(outcome, path, 3, words)
 
 
+def test_a_tower_of_parameters_beyond_a_float_is_a_clear_error_at_the_start(fuzz_base):
+    # found by the fuzzer (2000 examples, 2026-11-28): the start-point completion evaluated
+    # k^k^...^k with k = 4.0 exactly and raised an internal OverflowError
+    work = example_dir(fuzz_base)
+    path = _oscillator_with(work, "-k * x", "-k^k^k^k^k * x")
+    outcome = run_in_process(["simulate", path, "--stop", "1", "--points", "5"], work)
+    _assert_clear(outcome, HANG_LIMIT_S)
+    _assert_plain_error(outcome, "error: simulation of Oscillator failed at t = 0: IDA_FIRST_RES_FAIL: the "
+                        "residual function failed at the first call (IDAS: the equations have no "
+                        "finite value at the start)")
+
+
 # ------------------------------------ was exponent-size and huge-size: no estimate before allocating
 
 @pytest.mark.parametrize("declaration, words", [
