@@ -37,44 +37,36 @@ def _operand(e, required: int) -> str:
 
 
 def format_expr(e) -> str:
-    if isinstance(e, ast.Number):
-        return _number(e)
-    if isinstance(e, ast.String):
-        return format_string(e.value)
-    if isinstance(e, ast.Boolean):
-        return "true" if e.value else "false"
-    if isinstance(e, ast.End):
-        return "end"
-    if isinstance(e, ast.Colon):
-        return ":"
-    if isinstance(e, ast.Ref):
-        return ".".join(_ref_part(p) for p in e.parts)
-    if isinstance(e, ast.Range):
-        parts = [e.start] + ([e.step] if e.step is not None else []) + [e.stop]
-        return ":".join(_operand(p, ADD_LEVEL) for p in parts)
-    if isinstance(e, ast.UnaryOp):
-        operand = _operand(e.operand, UNARY_LEVEL)
-        separator = " " if operand[:1] in "+-!." else ""
-        return f"{e.op}{separator}{operand}"
-    if isinstance(e, ast.BinaryOp):
-        return _binary(e)
-    if isinstance(e, ast.IfExpr):
-        return _if_expr(e)
-    if isinstance(e, ast.Call):
-        args = [format_expr(a) for a in e.args]
-        args += [f"{k.name} = {format_expr(k.value)}" for k in e.kwargs]
-        return f"{e.function}({', '.join(args)})"
-    if isinstance(e, ast.ArrayLit):
-        return _array(e)
-    if isinstance(e, ast.SwitchValue):
-        return _switch_value(e)
-    if isinstance(e, ast.Comprehension):
-        clauses = "".join(f" for {format_iterators(c.iterators)}"
-                          + (f" if {format_expr(c.condition)}" if c.condition is not None else "")
-                          for c in e.clauses)
-        inner = f"{format_expr(e.expr)}{clauses}"
-        return inner if e.generator else f"[{inner}]"
-    raise TypeError(f"not an expression node: {e!r}")
+    """The canonical text of expression node `e` (its printer in _PRINTERS)."""
+    printer = _PRINTERS.get(type(e))
+    if printer is None:
+        raise TypeError(f"not an expression node: {e!r}")
+    return printer(e)
+
+
+def _range(e: ast.Range) -> str:
+    parts = [e.start] + ([e.step] if e.step is not None else []) + [e.stop]
+    return ":".join(_operand(p, ADD_LEVEL) for p in parts)
+
+
+def _unary(e: ast.UnaryOp) -> str:
+    operand = _operand(e.operand, UNARY_LEVEL)
+    separator = " " if operand[:1] in "+-!." else ""
+    return f"{e.op}{separator}{operand}"
+
+
+def _call(e: ast.Call) -> str:
+    args = [format_expr(a) for a in e.args]
+    args += [f"{k.name} = {format_expr(k.value)}" for k in e.kwargs]
+    return f"{e.function}({', '.join(args)})"
+
+
+def _comprehension(e: ast.Comprehension) -> str:
+    clauses = "".join(f" for {format_iterators(c.iterators)}"
+                      + (f" if {format_expr(c.condition)}" if c.condition is not None else "")
+                      for c in e.clauses)
+    inner = f"{format_expr(e.expr)}{clauses}"
+    return inner if e.generator else f"[{inner}]"
 
 
 def _switch_value(e: ast.SwitchValue) -> str:
@@ -150,3 +142,21 @@ def _array(e: ast.ArrayLit) -> str:
 
 def format_iterators(iterators) -> str:
     return ", ".join(f"{it.variable} in {format_expr(it.iterable)}" for it in iterators)
+
+
+_PRINTERS = {
+    ast.Number: _number,
+    ast.String: lambda e: format_string(e.value),
+    ast.Boolean: lambda e: "true" if e.value else "false",
+    ast.End: lambda e: "end",
+    ast.Colon: lambda e: ":",
+    ast.Ref: lambda e: ".".join(_ref_part(p) for p in e.parts),
+    ast.Range: _range,
+    ast.UnaryOp: _unary,
+    ast.BinaryOp: _binary,
+    ast.IfExpr: _if_expr,
+    ast.Call: _call,
+    ast.ArrayLit: _array,
+    ast.SwitchValue: _switch_value,
+    ast.Comprehension: _comprehension,
+}
