@@ -5,7 +5,8 @@ LAYERS lists them from the bottom. A module may import a module of its own layer
 one, never of a higher one; imports inside functions count (they run all the same), imports under
 `if TYPE_CHECKING:` do not (they never run). No import cycle of any length exists, and no module
 imports a private (`_name`) name of a module in another package. Each failure names the file and
-line of the offending import.
+line of the offending import. Modules and functions stay short (MAX_MODULE_LINES,
+MAX_FUNCTION_LINES).
 """
 from __future__ import annotations
 
@@ -330,4 +331,27 @@ def test_only_the_command_line_parses_arguments_and_prints():
                     isinstance(node, ast.ImportFrom) and node.module == "argparse":
                 offending.append(f"{path.relative_to(ROOT)}:{node.lineno}: {name} imports argparse")
             stack.extend(ast.iter_child_nodes(node))
+    assert offending == []
+
+
+# The developers' guide: modules under about 300 lines, functions under about 60.
+MAX_MODULE_LINES = 300
+MAX_FUNCTION_LINES = 60
+
+
+def test_modules_and_functions_stay_short():
+    """Every module of compiler/ within MAX_MODULE_LINES lines and every function (or method)
+    within MAX_FUNCTION_LINES; a longer one is split by concern, not trimmed."""
+    offending = []
+    for name, path in sorted(modules().items()):
+        text = path.read_text(encoding="utf-8")
+        length = len(text.splitlines())
+        if length > MAX_MODULE_LINES:
+            offending.append(f"{path.relative_to(ROOT)}: {length} lines")
+        for node in ast.walk(ast.parse(text)):
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                span = node.end_lineno - node.lineno + 1
+                if span > MAX_FUNCTION_LINES:
+                    offending.append(f"{path.relative_to(ROOT)}:{node.lineno}: {node.name} is "
+                                     f"{span} lines")
     assert offending == []

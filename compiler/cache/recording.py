@@ -43,28 +43,28 @@ class RecordingLibrary(Library):
             self._note_read("file", path)
         return super().parse(path)
 
-    def _text(self, path: Path) -> str:
+    def source_text(self, path: Path) -> str:
         if path not in self.read_files:
             self.read_files.add(path)
             self._note_read("file", path)
-        return super()._text(path)
+        return super().source_text(path)
 
     def find(self, qualified_name: str):
         self.searched_names.add(qualified_name)
         return super().find(qualified_name)
 
-    def _julia_functions(self, folder: Path, package: str) -> dict:
+    def julia_functions_in(self, folder: Path, package: str) -> dict:
         self.julia_folders.add(Path(folder).resolve())
         self._note_read("julia", folder)
-        return super()._julia_functions(folder, package)
+        return super().julia_functions_in(folder, package)
 
-    def _plugins_for(self, qualified_name: str, runs_code: bool) -> list[Path]:
+    def plugin_files(self, qualified_name: str, runs_code: bool) -> list[Path]:
         if qualified_name not in self.plugin_packages:
             self.plugin_packages.add(qualified_name)
             package_parts = qualified_name.split(".")[:-1]
             for root in self.roots:
                 self._note_read("plugin", root.joinpath(*package_parts) / FUNCTION_PLUGIN_FILE)
-        return super()._plugins_for(qualified_name, runs_code)
+        return super().plugin_files(qualified_name, runs_code)
 
     def inputs(self) -> list[Input]:
         """Everything the compile depended on, as (kind, absolute path) pairs."""

@@ -18,14 +18,13 @@ from __future__ import annotations
 import os
 import re
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Callable, Sequence
 
 from compiler.errors import DyadError, Span
 from compiler.model.functions import GLOBAL_REGISTRY, FunctionRegistry
 from compiler.model.library_functions import FUNCTION_PLUGIN_FILE, FunctionLookup
-from compiler.model.library_path import BASE_PACKAGE, LIBRARY_PATH_VARIABLE, PROJECT_FILE, Root, \
-    check_user_packages, package_provider, project_dependencies, search_path
+from compiler.model.library_path import BASE_PACKAGE
+from compiler.model.library_sources import LibrarySources
 from compiler.model.library_suggest import DEFINITION_KEYWORDS, PRIMITIVE_TYPES, \
     unsupported_component_error, suggest_component, suggest_type
 from compiler.syntax import ast
@@ -48,128 +47,35 @@ class Resolved:
         return self.definition.name
 
 
-def _default_parser() -> Callable[[str], ast.File]:
-    from compiler.syntax.parser import parse_file
-    return parse_file
-
-
 def qualify(package: str, name: str) -> str:
     return f"{package}.{name}" if package else name
 
 
-class Library(FunctionLookup):
+class Library(LibrarySources, FunctionLookup):
+    """Definitions by qualified name, and the name a use inside a package means (the rules above),
+    in the sources of compiler.model.library_sources; functions by compiler.model.library_functions."""
+
     def __init__(self, lib_dirs: Sequence[str | os.PathLike] = (), *, include_shipped: bool = True,
                  use_env: bool = True, parser: Callable[[str], ast.File] | None = None,
                  registry: FunctionRegistry = GLOBAL_REGISTRY):
-        self.search_path: list[Root] = search_path(lib_dirs, include_shipped=include_shipped,
-                                                   use_env=use_env)
-        self.roots: list[Path] = [root.path for root in self.search_path]
+        super().__init__(lib_dirs, include_shipped=include_shipped, use_env=use_env, parser=parser)
         self.registry = registry
-        self.parse_count = 0
-        self._parser = parser
-        self._files: dict[Path, ast.File] = {}
-        self._texts: dict[Path, str] = {}
         self._found: dict[str, Resolved | None] = {}
         self._aliased: dict[str, Resolved | None] = {}
         self._subfolders: dict[str, list[str]] = {}
         self._lookup_cache: dict[tuple, Resolved | None] = {}
         self.type_cache: dict[tuple, object] = {}     # used by compiler.model.instantiate
         self._julia: dict[str, dict] = {}             # package folder -> its Julia functions
-        self._providers: dict[str, Root | None] = {}  # top-level package -> the root providing it
-        self._dependencies: dict[str, set[str] | None] = {}   # top-level package -> its [deps]
 
-    # -------------------------------------------------------------------------------- files
-
-    def parse(self, path: str | os.PathLike) -> ast.File:
-        path = Path(path).resolve()
-        cached = self._files.get(path)
-        if cached is not None:
-            return cached
-        if self._parser is None:
-            self._parser = _default_parser()
-        parsed = self._parser(str(path))
-        self.parse_count += 1
-        self._files[path] = parsed
-        return parsed
-
-    def _text(self, path: Path) -> str:
-        text = self._texts.get(path)
-        if text is None:
-            try:
-                text = path.read_text(encoding="utf-8")
-            except (OSError, UnicodeDecodeError):
-                text = ""
-            self._texts[path] = text
-        return text
-
-    def source_text(self, path: Path) -> str:
-        """The text of a source file (empty if unreadable), read once."""
-        return self._text(path)
-
-    def parsed_files(self) -> list[ast.File]:
-        """The files parsed so far."""
-        return list(self._files.values())
-
-    def package_of_file(self, path: str | os.PathLike) -> str | None:
-        """The namespace of a file under one of the roots, or None if it is under none."""
-        path = Path(path).resolve()
-        for root in self.roots:
-            try:
-                rel = path.parent.relative_to(root)
-            except ValueError:
-                continue
-            return ".".join(rel.parts)
-        return None
-
-    def add_source_root(self, folder: str | os.PathLike) -> None:
-        """Search `folder` last, for .dyad sources only: its Python plugins are never executed
-        (it was not named with -L or DYADC_PATH; see docs/security.md)."""
-        folder = Path(folder).resolve()
-        if folder in self.roots:
-            return
-        root = Root(folder, "model folder", runs_code=False)
-        check_user_packages([*self.search_path, root])
-        self.search_path.append(root)
-        self.roots.append(folder)
-        self._found.clear()
-        self._aliased.clear()
-        self._subfolders.clear()
-        self._lookup_cache.clear()
-        self._providers.clear()
-        self._dependencies.clear()
-
-    def provider(self, package: str) -> Root | None:
-        """The root whose folder provides all of top-level package `package` (one root only)."""
-        if package not in self._providers:
-            self._providers[package] = package_provider(self.search_path, package)
-        return self._providers[package]
-
-    def roots_for(self, qualified_name: str) -> list[Path]:
-        """The roots that may define `qualified_name`: its package's one provider, or every root
-        for a name at the top level."""
-        head, dot, _ = qualified_name.partition(".")
-        if not dot:
-            return list(self.roots)
-        provider = self.provider(head)
-        return [provider.path] if provider is not None else []
-
-    def declared_dependencies(self, package: str) -> set[str] | None:
-        """The [deps] of top-level package `package`'s Project.toml, or None when it declares none."""
-        if package not in self._dependencies:
-            self._dependencies[package] = self._read_dependencies(package)
-        return self._dependencies[package]
-
-    def _read_dependencies(self, package: str) -> set[str] | None:
-        provider = self.provider(package) if package else None
-        if provider is None:
-            return None
-        project = provider.path / package / PROJECT_FILE
-        return project_dependencies(self._text(project), project, package)
-
-    @property
-    def user_roots(self) -> list[Path]:
-        """The roots the user named (-L, DYADC_PATH), in order."""
-        return [root.path for root in self.search_path if root.origin in ("-L", LIBRARY_PATH_VARIABLE)]
+    def add_source_root(self, folder: str | os.PathLike) -> bool:
+        """LibrarySources.add_source_root, forgetting every lookup made without `folder`."""
+        added = super().add_source_root(folder)
+        if added:
+            self._found.clear()
+            self._aliased.clear()
+            self._subfolders.clear()
+            self._lookup_cache.clear()
+        return added
 
     # --------------------------------------------------------------------------- lookup
 
@@ -197,7 +103,7 @@ class Library(FunctionLookup):
             # under a resolved root already: a resolve() per scanned file cost a compile 20 ms;
             # the plain substring test first spares the header pattern most texts (30 ms)
             candidates += [p for p in sorted(folder.glob("*.dyad"))
-                           if p != named and name in self._text(p) and header.search(self._text(p))]
+                           if p != named and name in self.source_text(p) and header.search(self.source_text(p))]
             for path in candidates:
                 parsed = self.parse(path)
                 for definition in parsed.definitions:

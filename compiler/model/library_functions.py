@@ -42,7 +42,7 @@ class FunctionLookup:
                 raise julia.error(span)
             if julia is not None:
                 return julia
-        skipped = [plugin for candidate in candidates for plugin in self._plugins_for(candidate, False)]
+        skipped = [plugin for candidate in candidates for plugin in self.plugin_files(candidate, False)]
         if skipped:
             raise DyadError(f"unknown function `{name}`", span,
                             hint=f"{skipped[0]} was not run: dyadc runs a library's Python only "
@@ -63,7 +63,7 @@ class FunctionLookup:
             return None
         for root in self.roots_for(qualified_name):
             if (root / package).is_dir():
-                found = self._julia_functions(root / package, package).get(qualified_name)
+                found = self.julia_functions_in(root / package, package).get(qualified_name)
                 if found is not None:
                     return found
         return None
@@ -72,9 +72,10 @@ class FunctionLookup:
         """`name` defined in Julia by the project whose dyad/ folder holds `dyad_file`."""
         folder = dyad_file.parent
         package = folder.resolve().parent.name.removesuffix(".jl")
-        return self._julia_functions(folder, package).get(f"{package}.{name}")
+        return self.julia_functions_in(folder, package).get(f"{package}.{name}")
 
-    def _julia_functions(self, folder: Path, package: str) -> dict:
+    def julia_functions_in(self, folder: Path, package: str) -> dict:
+        """The functions package `package` defines in the Julia sources of `folder`, read once."""
         key = str(folder.resolve())
         if key not in self._julia:
             functions: dict = {}
@@ -84,7 +85,7 @@ class FunctionLookup:
             self._julia[key] = functions
         return self._julia[key]
 
-    def _plugins_for(self, qualified_name: str, runs_code: bool) -> list[Path]:
+    def plugin_files(self, qualified_name: str, runs_code: bool) -> list[Path]:
         """The plugin files for the package of `qualified_name` in the roots that may (or may
         not) run code."""
         package_parts = qualified_name.split(".")[:-1]
@@ -94,7 +95,7 @@ class FunctionLookup:
         return [plugin for plugin in plugins if plugin.is_file()]
 
     def _load_plugins_for(self, qualified_name: str) -> None:
-        for plugin in self._plugins_for(qualified_name, True):
+        for plugin in self.plugin_files(qualified_name, True):
             try:
                 self.registry.load_plugin(plugin)
             except Exception as exc:  # a broken plugin is a library error, not a crash

@@ -4,6 +4,8 @@ Functions of a compiler.model.library.Library (its public reading and lookup met
 from __future__ import annotations
 
 import re
+from dataclasses import dataclass
+from typing import Mapping
 
 from compiler.errors import DyadError, Span, closest, suggest_name
 from compiler.model.library_path import BASE_PACKAGE
@@ -98,28 +100,49 @@ def ambiguous_alias_hint(library, name: str, package: str, file: ast.File | None
     return None
 
 
+@dataclass(frozen=True)
+class Refusal:
+    """A family of Dyad library components that needs a feature dyadc lacks, refused by name with
+    "`P.X` is {what} of Dyad's `P`{why}" and `hint`. `elements`: package -> the refused element
+    names, or None for every component of the package."""
+    elements: Mapping[str, tuple[str, ...] | None]
+    what: str
+    why: str
+    hint: str
+
+    def refuses(self, package: str, element: str) -> bool:
+        if package not in self.elements:
+            return False
+        names = self.elements[package]
+        return names is None or element in names
+
+
+REFUSALS = (
+    Refusal({package: None for package in SAMPLED_PACKAGES}, "a sampled (discrete-time) component",
+            "; dyadc does not simulate clocked (sampled) components yet",
+            "model the controller or filter in continuous time (BlockComponents.Continuous)"),
+    Refusal(STICK_SLIP_ELEMENTS, "a Coulomb friction element",
+            ": it switches between stuck and sliding, a discrete mode that dyadc cannot hold yet "
+            "(no discrete states)",
+            "model the friction as a smooth law of the slip speed (a Damper, or your own component "
+            "with tanh(w / w_small))"),
+    Refusal(MEMORY_ELEMENTS, "an element with memory",
+            ": its output keeps a value set at an earlier event (a latched state), and dyadc has no "
+            "discrete states yet (no `pre`, no `when`)",
+            "use an element that reads only the present inputs (a threshold comparison, "
+            "LogicalSwitch, Switch, IdealOpeningSwitch, IdealDiode)"),
+)
+
+
 def unsupported_component_error(name: str, span: Span | None) -> DyadError | None:
-    """The refusal of a component of Dyad's standard library that needs a feature dyadc lacks (a
-    sampled package's clocked semantics, a friction element's stuck/sliding mode, an element's
-    memory), or None."""
-    package = name.split(".", 1)[0]
+    """The refusal (REFUSALS) of a component of Dyad's standard library that needs a feature dyadc
+    lacks (a sampled package's clocked semantics, a friction element's stuck/sliding mode, an
+    element's memory), or None."""
     if "." not in name:
         return None
-    if package in SAMPLED_PACKAGES:
-        return DyadError(f"`{name}` is a sampled (discrete-time) component of Dyad's `{package}`; "
-                         f"dyadc does not simulate clocked (sampled) components yet", span,
-                         hint="model the controller or filter in continuous time (BlockComponents.Continuous)")
-    element = name.rsplit(".", 1)[1]
-    if element in STICK_SLIP_ELEMENTS.get(package, ()):
-        return DyadError(f"`{name}` is a Coulomb friction element of Dyad's `{package}`: it switches "
-                         f"between stuck and sliding, a discrete mode that dyadc cannot hold yet "
-                         f"(no discrete states)", span,
-                         hint="model the friction as a smooth law of the slip speed (a Damper, or "
-                              "your own component with tanh(w / w_small))")
-    if element in MEMORY_ELEMENTS.get(package, ()):
-        return DyadError(f"`{name}` is an element with memory of Dyad's `{package}`: its output "
-                         f"keeps a value set at an earlier event (a latched state), and dyadc has no "
-                         f"discrete states yet (no `pre`, no `when`)", span,
-                         hint="use an element that reads only the present inputs (a threshold "
-                              "comparison, LogicalSwitch, Switch, IdealOpeningSwitch, IdealDiode)")
+    package, element = name.split(".", 1)[0], name.rsplit(".", 1)[1]
+    for refusal in REFUSALS:
+        if refusal.refuses(package, element):
+            return DyadError(f"`{name}` is {refusal.what} of Dyad's `{package}`{refusal.why}", span,
+                             hint=refusal.hint)
     return None

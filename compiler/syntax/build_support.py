@@ -23,6 +23,13 @@ def token_span(tok: Token, filename: str) -> Span:
     return Span(filename, tok.line, tok.column, tok.end_line, max(tok.end_column - 1, tok.column))
 
 
+def meta_span(meta, filename: str) -> Span | None:
+    """The span of a parse-tree node's `meta`, or None for a node that covers no text."""
+    if getattr(meta, "empty", True):
+        return None
+    return Span(filename, meta.line, meta.column, meta.end_line, max(meta.end_column - 1, 1))
+
+
 def join_spans(first: Span | None, last: Span | None) -> Span | None:
     if first is None or last is None:
         return first or last
@@ -165,10 +172,7 @@ class RuleBase:
     filename: str
 
     def _span(self, meta) -> Span | None:
-        if getattr(meta, "empty", True):
-            return None
-        return Span(self.filename, meta.line, meta.column, meta.end_line,
-                    max(meta.end_column - 1, 1))
+        return meta_span(meta, self.filename)
 
     def _tspan(self, tok: Token) -> Span:
         return token_span(tok, self.filename)

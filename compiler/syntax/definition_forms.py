@@ -6,6 +6,7 @@ from __future__ import annotations
 from lark import Token
 
 from compiler.errors import DyadError, Span
+from compiler.syntax.build_support import token_span
 
 _BODIES = ("component", "analysis", "connector")
 
@@ -36,6 +37,5 @@ def switch_inside_expression(tok: Token, tokens, index, span: Span) -> DyadError
             or previous.line != tok.line or tok.type != "NAME":
         return None
     return DyadError("a `switch` value stands alone right after `=`, not inside a larger expression",
-                     Span(span.file, previous.line, previous.column, previous.end_line,
-                          previous.end_column - 1),
+                     token_span(previous, span.file),
                      hint="give it a name of its own: `variable s::Real = switch ...`, then use `2 * s`")

@@ -9,7 +9,9 @@ from __future__ import annotations
 from lark import Tree
 
 from compiler.errors import DyadError
+from compiler.syntax.build_support import meta_span
 from compiler.syntax.build_support import number_value, token_span  # noqa: F401 (re-exported)
+from compiler.syntax.rules_declarations import DeclarationRules
 from compiler.syntax.rules_definitions import DefinitionRules
 from compiler.syntax.rules_expressions import ExpressionRules
 from compiler.syntax.rules_relations import RelationRules
@@ -43,7 +45,7 @@ def build_ast(tree, filename: str):
         depth = _depth(node, frame[3])
         if depth > MAX_NESTING:
             raise DyadError(f"nested too deeply: more than {MAX_NESTING} levels of nesting",
-                            builder._span(node.meta),
+                            meta_span(node.meta, filename),
                             hint="split the expression with intermediate variables (or flatten "
                                  "the metadata); long sums and products are fine")
         value = builder.apply(node, results)
@@ -73,7 +75,7 @@ def _continues_chain(node: Tree) -> bool:
             and _CHAIN_FAMILIES.get(str(left.children[1])) == family)
 
 
-class AstBuilder(DefinitionRules, RelationRules, ExpressionRules):
+class AstBuilder(DefinitionRules, DeclarationRules, RelationRules, ExpressionRules):
     """One method per grammar rule (or alias): (meta, children already built) -> node."""
 
     def __init__(self, filename: str):

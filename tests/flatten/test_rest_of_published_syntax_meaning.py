@@ -10,7 +10,9 @@ from compiler.model.flatten import flatten_model
 from tests.syntax.test_rest_of_published_syntax import SWITCH_VALUES as BOX_WITH_SWITCH_VALUES
 
 
-def test_relative_usings_name_definitions_from_the_files_package(sources):
+@pytest.fixture
+def rig_spring(sources):
+    """`Rig.Parts.Spring`, which the `using` tests import from other files."""
     sources.write("Rig/Parts/Spring.dyad", """
         component Spring
           parameter k::Real = 3
@@ -19,6 +21,9 @@ def test_relative_usings_name_definitions_from_the_files_package(sources):
           f = k
         end
     """)
+
+
+def test_relative_usings_name_definitions_from_the_files_package(sources, rig_spring):
     sources.write("Rig/Tools/Damper.dyad", """
         using ..Parts: Spring
         component Damper
@@ -56,17 +61,9 @@ CLOCK = """
 """
 
 
-def test_a_renamed_using_names_the_definition_by_its_new_name_only(sources):
+def test_a_renamed_using_names_the_definition_by_its_new_name_only(sources, rig_spring):
     """Julia's `using P: a as b`: `b` is P's `a` in this file (also as the head of a dotted
     name); the old name `a` is not brought in."""
-    sources.write("Rig/Parts/Spring.dyad", """
-        component Spring
-          parameter k::Real = 3
-          variable f::Real
-        relations
-          f = k
-        end
-    """)
     sources.write("Bench.dyad", """
         using Rig: Parts as P
         using Rig.Parts: Spring as Coil

@@ -6,7 +6,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from compiler.syntax import ast
-from compiler.syntax.format import format_expr, format_file
+from compiler.syntax.format import format_file
+from compiler.syntax.format_expressions import format_expr
 from compiler.syntax.parser import parse_expression, parse_file, parse_source
 
 REPO = Path(__file__).resolve().parents[2]
