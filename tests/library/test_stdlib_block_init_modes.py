@@ -23,6 +23,7 @@ def lag(y0, t):
 
 @pytest.mark.parametrize("signal, y0", [
     ("tf_rest.y", 0.0),             # the default: InitialState with zero states, from rest
+    ("tf_unset.y", 0.0),            # InitialState() with its field's default [0.0]
     ("tf_state.y", 0.5),            # InitialState(x0 = [0.5])
     ("tf_steady.y", U),             # SteadyState: started where it settles, it stays there
     ("tf_free.y", 1.5),             # NoInit, the model's own `initial tf_free.y = 1.5`
