@@ -91,12 +91,16 @@ def expression(source: str, text: str, offset: int, path: str, known: set[str]) 
 
 
 def refs(node):
-    stack = [node]
+    """The references in `node` to names it does not bind itself: the variables of a
+    comprehension's `for` clauses are its own inside it (`[L[j] for j in 1:N]` uses `L`, `N`)."""
+    stack = [(node, frozenset())]
     while stack:
-        item = stack.pop()
-        if isinstance(item, ast.Ref):
+        item, bound = stack.pop()
+        if isinstance(item, ast.Ref) and item.parts[0].name not in bound:
             yield item
+        if isinstance(item, ast.Comprehension):
+            bound = bound | {it.variable for clause in item.clauses for it in clause.iterators}
         if isinstance(item, (tuple, list)):
-            stack.extend(item)
+            stack.extend((part, bound) for part in item)
         elif is_dataclass(item):
-            stack.extend(getattr(item, f.name) for f in fields(item) if f.name != "span")
+            stack.extend((getattr(item, f.name), bound) for f in fields(item) if f.name != "span")

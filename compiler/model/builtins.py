@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any, Callable
 
+import numpy as np
 import sympy
 
 from compiler.errors import DyadError, Span, closest
@@ -100,6 +101,22 @@ def _fill(call: ast.Call, scope: EvalScope, mode: Mode, evaluate: Evaluate) -> A
     return filled(value, _shape(call.args[1:], scope, call.span, evaluate))
 
 
+def _reshape(call: ast.Call, scope: EvalScope, mode: Mode, evaluate: Evaluate) -> Any:
+    """Julia's `reshape(a, m, n, ...)`: the elements of `a` taken in Julia's column-major order
+    and laid out in the new sizes (`reshape([1, 2, 3, 4], 2, 2)` is `[1 3; 2 4]`)."""
+    if len(call.args) < 2:
+        raise DyadError("`reshape` takes an array and at least one size", call.span)
+    value = numeric(evaluate(call.args[0], scope, mode), call.span)
+    shape = _shape(call.args[1:], scope, call.span, evaluate)
+    elements = np.empty(shape_of(value), dtype=object)
+    elements[...] = value
+    count = int(np.prod(shape, dtype=int))
+    if elements.size != count:
+        raise DyadError(f"`reshape` cannot lay out {elements.size} element(s) in sizes "
+                        f"{', '.join(str(n) for n in shape)} ({count} elements)", call.span)
+    return elements.reshape(shape, order="F")
+
+
 def _size(call: ast.Call, scope: EvalScope, mode: Mode, evaluate: Evaluate) -> Any:
     span = call.span
     if not 1 <= len(call.args) <= 2:
@@ -120,7 +137,8 @@ _FORMS = [Builtin("mod", form=_integer), Builtin("rem", form=_integer),
           Builtin("div", form=_integer), Builtin("not", form=_not),
           Builtin("der", form=_der, aliases=("D",)), Builtin("ifelse", form=_ifelse),
           Builtin("zeros", form=_constant_array), Builtin("ones", form=_constant_array),
-          Builtin("fill", form=_fill), Builtin("size", form=_size)]
+          Builtin("fill", form=_fill), Builtin("reshape", form=_reshape),
+          Builtin("size", form=_size)]
 # Julia's reductions over an array: min/max take arrays too
 _ALIASES = {"min": ("minimum",), "max": ("maximum",)}
 

@@ -18,7 +18,8 @@ from compiler.errors import DyadError, Span, suggest_name
 from compiler.model import eval_arrays, object_calls
 from compiler.model.arithmetic import COMPARISONS, INTEGER_OPERATORS, arith, integer_operator
 from compiler.model.builtins import builtin
-from compiler.model.enums import enum_member_value, selected_case
+from compiler.model.enums import case_bindings, check_member_call, enum_member_value, \
+    selected_case
 from compiler.model.eval_scope import END_BINDING, NOT_FOUND, DerivativeTracker, EvalScope, \
     FunctionBodyNode, Lexical, MissingValue, Mode, Node
 from compiler.model.eval_values import CONDITION_TYPES, is_node_array, is_node_like, numeric, \
@@ -228,9 +229,7 @@ def _call(expr: ast.Call, scope: EvalScope, mode: Mode) -> Any:
     if "." in name:                 # `Gear.High()`: an enum member written as a constructor
         member = enum_member_value(name, lex, span)
         if member is not None:
-            if expr.args or expr.kwargs:
-                raise DyadError(f"enum members with fields (`{name}(...)`) are not supported yet",
-                                span)
+            check_member_call(expr, lex)
             return member
     if mode is Mode.SYMBOLIC:       # a function of a Julia object (compiler/model/object_calls.py)
         value = object_calls.object_call(expr, scope, object_calls.Evaluator(
@@ -252,20 +251,26 @@ def _call(expr: ast.Call, scope: EvalScope, mode: Mode) -> Any:
         raise DyadError(f"bad arguments for `{name}`: {exc}", span) from exc
 
 
-def switch_branch(relation: ast.Switch | ast.SwitchValue, scope: EvalScope) -> tuple:
+def switch_branch(relation: ast.Switch | ast.SwitchValue, scope: EvalScope
+                  ) -> tuple[tuple, EvalScope]:
     """The relations (or, of a switch value, the one value) of the case of `switch subject` that
-    the subject's structural value selects (its `else` when no case names it)."""
+    the subject's structural value selects (its `else` when no case names it), and the scope to
+    read them in: `scope` with the fields a case such as `case InitialState(x0)` binds."""
     value = structural_int(evaluate(relation.subject, scope, Mode.STRUCTURAL), relation.span,
                            "a switch subject")
-    return selected_case(relation, scope, value)
+    case, member = selected_case(relation, scope, value)
+    if case is None:
+        return relation.otherwise, scope
+    bound = case_bindings(relation, case, member, scope, evaluate)
+    return case.body, scope.bind(**bound) if bound else scope
 
 
 def _switch_value(expr: ast.SwitchValue, scope: EvalScope, mode: Mode) -> Any:
-    chosen = switch_branch(expr, scope)
+    chosen, chosen_scope = switch_branch(expr, scope)
     if not chosen:
         raise DyadError("no case of this `switch` names the value of its subject, and it has no "
                         "`else`", expr.span, hint="add a case for every member, or an `else` value")
-    return evaluate(chosen[0], scope, mode)
+    return evaluate(chosen[0], chosen_scope, mode)
 
 
 def _julia_call(function: Any, args: list, expr: ast.Call, scope: EvalScope, mode: Mode) -> Any:

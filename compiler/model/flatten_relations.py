@@ -36,8 +36,9 @@ def relation_equations(state: FlattenState, relation: ast.Relation, scope: EvalS
         for inner in relation.otherwise:
             relation_equations(state, inner, scope)
     elif isinstance(relation, ast.Switch):
-        for inner in switch_branch(relation, scope):
-            relation_equations(state, inner, scope)
+        chosen, chosen_scope = switch_branch(relation, scope)
+        for inner in chosen:
+            relation_equations(state, inner, chosen_scope)
     elif isinstance(relation, ast.Continuity):
         pass        # relates `path` fields (a medium along a fluid path); implies no equation
     else:

@@ -74,14 +74,23 @@ class IfRelation:
 
 @dataclass(frozen=True)
 class SwitchCase:
-    names: tuple[str, ...]          # `case A, Gear.B()`: the enum members as written
+    names: tuple[str, ...]          # `case A, Gear.B(), C(x0)`: the enum members as written
     body: tuple["Relation", ...]
     span: Span | None = NO_SPAN
 
     @property
     def members(self) -> tuple[str, ...]:
-        """The members named, `Gear.B()` (the member as a value) read as `Gear.B`."""
-        return tuple(name.removesuffix("()") for name in self.names)
+        """The members named, `Gear.B()` (the member as a value) and `C(x0)` (binding the fields
+        of `C`) read as `Gear.B` and `C`."""
+        return tuple(name.partition("(")[0] for name in self.names)
+
+    def bound_names(self, member: str) -> tuple[str, ...]:
+        """The local names `case C(x0, y)` binds to the fields of member `C`, in field order."""
+        for name in self.names:
+            if name.partition("(")[0] == member:
+                inside = name.partition("(")[2].removesuffix(")")
+                return tuple(part.strip() for part in inside.split(",") if part.strip())
+        return ()
 
 
 @dataclass(frozen=True)

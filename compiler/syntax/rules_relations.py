@@ -143,6 +143,10 @@ class RelationRules(RuleBase):
         """`Gear.Low()`: the member as a value of its enum, kept as written."""
         return children[0] + "()"
 
+    def case_binding(self, meta, children):
+        """`InitialState(x0)`: the member and the names its fields are bound to, kept as written."""
+        return f"{children[0]}({', '.join(str(name) for name in children[1:])})"
+
     def relation_list(self, meta, children):
         return tuple(children)
 

@@ -150,8 +150,9 @@ class UnitCheck:
             for inner in relation.otherwise:
                 self.relation(inner, scope)
         elif kind is ast.Switch:
-            for inner in switch_branch(relation, scope):
-                self.relation(inner, scope)
+            chosen, chosen_scope = switch_branch(relation, scope)
+            for inner in chosen:
+                self.relation(inner, chosen_scope)
         elif kind is ast.Guess:
             target = self.units.of(relation.target, scope)
             value = self.units.of(relation.value, scope)

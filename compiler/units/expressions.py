@@ -81,8 +81,8 @@ class ExpressionUnits:
         if kind is ast.Boolean:
             return FREE
         if kind is ast.SwitchValue:     # the unit of the value the subject selects
-            chosen = switch_branch(expr, scope)
-            return self.of(chosen[0], scope) if chosen else None
+            chosen, chosen_scope = switch_branch(expr, scope)
+            return self.of(chosen[0], chosen_scope) if chosen else None
         return None                     # strings
 
     def ref(self, ref: ast.Ref, scope: EvalScope) -> Any:

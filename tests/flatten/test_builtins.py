@@ -34,6 +34,7 @@ EXAMPLES = {
     "ifelse": ("ifelse(1 > 2, 1, 2)", 2), "zeros": ("zeros(2)", [0, 0]),
     "ones": ("ones(2, 1)", [[1], [1]]), "fill": ("fill(3, 2)", [3, 3]),
     "size": ("size([1, 2, 3])", [3]),
+    "reshape": ("reshape([1, 2, 3, 4, 5, 6], 2, 3)", [[1, 3, 5], [2, 4, 6]]),
 }
 ALIAS_EXAMPLES = {"D": ("D(x^2)", "der(x^2)"), "minimum": ("minimum([4, 2, 8])", "min([4, 2, 8])"),
                   "maximum": ("maximum([1, 5, 3])", "max([1, 5, 3])")}
@@ -107,3 +108,9 @@ def test_an_unknown_function_in_a_model_names_the_builtin(tmp_path, misspelt, su
     assert caught.value.message == f"unknown function `{misspelt}`"
     assert caught.value.hint == f"did you mean `{suggested}`?"
     assert (caught.value.span.line, caught.value.span.column) == (4, 7)
+
+
+def test_reshape_keeps_the_number_of_elements():
+    with pytest.raises(DyadError) as err:
+        value("reshape([1, 2, 3], 2, 2)")
+    assert "`reshape` cannot lay out 3 element(s) in sizes 2, 2 (4 elements)" in err.value.message

@@ -86,10 +86,10 @@ end
     assert "cannot tell which enum `One` belongs to" in err.message
 
 
-def test_members_with_fields_are_not_supported_yet(sources):
+def test_a_member_without_fields_takes_no_arguments(sources):
     err = sources.error(ENUM.replace("= Gear.High", "= Gear.High(ratio = 2)"), "Box",
                         marker="Gear.High(ratio")
-    assert "enum members with fields" in err.message
+    assert "enum member `Gear.High` has no fields" in err.message
 
 
 CLOSED_CASES = """

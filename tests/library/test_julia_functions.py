@@ -150,3 +150,15 @@ def test_a_dyad_folder_without_julia_sources_still_reports_an_unknown_function(t
     """)
     with pytest.raises(DyadError, match="unknown function `not_defined_anywhere`"):
         flatten_model(f"{model}:Model", [str(lib)])
+
+
+def test_comprehension_variables_are_bound_only_inside_their_comprehension(tmp_path):
+    path = tmp_path / "arrays.jl"
+    path.write_text("squares(n) = [k^2 for k in 1:n]\n"
+                    "table(a, n) = [a[min(j, k)] for j in 1:n, k in 1:n]\n"
+                    "leaks(n) = sum([k for k in 1:n]) + k\n", encoding="utf-8")
+    functions = read_julia_functions(path, "MyLib")
+    assert isinstance(functions["MyLib.squares"], JuliaFunction)
+    assert isinstance(functions["MyLib.table"], JuliaFunction)
+    assert isinstance(functions["MyLib.leaks"], UnreadableFunction)
+    assert "it uses `k`" in functions["MyLib.leaks"].reason

@@ -44,7 +44,8 @@ def test_hold_along_axis1_linear_along_axis2(run):
 
 
 @pytest.mark.parametrize("dims, data, message", [
-    ("BSplineInterpolationDimension(2)", "[1 2; 3 4]", "are not supported yet"),
+    ("BSplineInterpolationDimension(2)", "[1 2; 3 4]",
+         "`BSplineInterpolationDimension` is not supported by dyadc yet"),
     ("LinearInterpolationDimension()", "[1 2 3; 4 5 6]",
      "cannot interpolate the two-dimensional table: the data must have one row per point of axis1 "
      "and one column per point of axis2, 2 x 2, got 2 x 3"),
