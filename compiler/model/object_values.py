@@ -119,7 +119,7 @@ def applied(table: PiecewisePolynomial, path: str, arguments: list, span: Span |
     """`interpolator(u)` in an equation: the interpolant named `path` applied to `u`."""
     if len(arguments) != 1:
         raise DyadError(f"`{path}` interpolates one argument, got {len(arguments)}", span)
-    return interpolation.function(table, path)(arguments[0])
+    return interpolation.applied_to(table, path, arguments[0])
 
 
 def evaluate_object(expr: ast.Expr, scope: Any, structural: Structural) -> Any:
