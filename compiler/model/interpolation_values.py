@@ -81,7 +81,9 @@ def _dimension(expr: ast.Expr, scope: Any, structural: Structural) -> str | None
                         hint=f"write e.g. {table2d.DIMENSION_TYPE}.LinearInterpolationDimension()")
     name = _enum_member(expr, scope, structural, table2d.DIMENSION_TYPE, "an argument")
     if name is not None and name not in table2d.DIMENSION_KINDS:
-        raise DyadError(f"`{name}` is not supported by dyadc yet", getattr(expr, "span", None),
+        raise DyadError(f"`{name}` is not supported by dyadc yet: Dyad documents only its "
+                        f"highest derivative order, not the degree or the knots of its B-spline",
+                        getattr(expr, "span", None),
                         hint=f"use one of {', '.join(table2d.DIMENSION_KINDS)}")
     return table2d.DIMENSION_KINDS.get(name)
 
