@@ -84,3 +84,13 @@ def test_a_state_indexed_period_boundary_is_a_located_state_event(compiled):
     np.testing.assert_allclose(run["state_saw.y"][away], (x - np.floor(x))[away], atol=1e-9)
     np.testing.assert_allclose(run["state_saw_area"], _saw_integral(x) - _saw_integral(0.25),
                                atol=1e-7)
+
+
+@pytest.mark.parametrize("how", ["Periodic", "Reflective"])
+def test_samples_not_starting_at_zero_repeat_from_their_first_sample(how):
+    times, values = [1.0, 2.0, 4.0], [5.0, 7.0, 3.0]          # span 3, starting at 1
+    table = extrapolated(linear(values, times, "offset"), 1.0, 4.0, how)
+    u = np.linspace(-8, 13, 85)
+    inner = np.mod(u - 1.0, 3.0) + 1.0 if how == "Periodic" else _reflected(u, 1.0, 3.0)
+    np.testing.assert_allclose([table.value(x) for x in u], np.interp(inner, times, values),
+                               atol=1e-12)
