@@ -68,3 +68,24 @@ def test_bad_tables_are_located(tmp_path, csv, part, message, line):
         assert (err.value.span.file, err.value.span.line) == (path, line)
     else:                                        # at the offending line of the data file
         assert err.value.span.file.endswith("grid.csv")
+
+
+def test_a_dyad_uri_finds_the_file_in_the_package_assets_folder(tmp_path):
+    package = tmp_path / "Grids"
+    (package / "dyad").mkdir(parents=True)
+    (package / "assets").mkdir()
+    (package / "assets" / "grid.csv").write_text("a,b,f\n0,0,1\n0,1,2\n1,0,3\n1,1,4\n",
+                                                 encoding="utf-8")
+    (package / "dyad" / "Rig.dyad").write_text(
+        "component Rig\n"
+        "  structural parameter grid::DyadData.DyadInterpolationTable2D = DyadData."
+        "DyadInterpolationTable2D(\"dyad://Grids/grid.csv\", axis1_name = \"a\", axis2_name = "
+        "\"b\", data_name = \"f\")\n"
+        "  table = BlockComponents.Tables.InterpolatedTable(axis1 = grid[\"a\"], axis2 = "
+        "grid[\"b\"], data = grid[\"f\"], interpolation_dim1 = BlockComponents.Tables."
+        "InterpolationDimension.LinearInterpolationDimension(), interpolation_dim2 = "
+        "BlockComponents.Tables.InterpolationDimension.LinearInterpolationDimension())\n"
+        "relations\n  table.u1 = 0.5\n  table.u2 = 0.25\nend\n", encoding="utf-8")
+    from compiler.api import simulate
+    result = simulate("Grids.Rig", stop=1.0, points=2, lib_dirs=(str(tmp_path),))
+    assert result["table.y"][-1] == pytest.approx(1 + 2 * 0.5 + 0.25, abs=1e-12)   # 1 + 2a + b
