@@ -1,5 +1,5 @@
 """Where a model's equations are not smooth: the relations and kinks (if/ifelse conditions, abs,
-min/max, sign, floor, mod) of the integrated system, sorted into
+min/max, sign, floor, mod, a repeating table) of the integrated system, sorted into
 
 - time events: the condition depends on time and parameters only, so the times are known before
   the run, as offset + k * period with both sympy expressions of the parameters (a step at t0,
@@ -22,6 +22,7 @@ import sympy
 from sympy.core.relational import Relational
 
 from compiler.model.flat import TIME
+from compiler.model.interpolation import InterpolatedFunction
 from compiler.structure.reduced import ReducedSystem
 
 
@@ -93,6 +94,8 @@ def _locked(expr: sympy.Expr, timed: set) -> sympy.Expr:
     if isinstance(expr, sympy.Mod):
         a, m = rebuilt.args
         return a - m * sympy.floor(on_clock(a) / m)
+    if isinstance(expr, InterpolatedFunction) and len(expr.args) == 2:
+        return rebuilt.func(rebuilt.args[0], on_clock(rebuilt.args[1]))     # the period, locked
     return rebuilt
 
 
@@ -163,6 +166,10 @@ def _zero_functions(expr: sympy.Expr):
             found.append((sympy.sin(sympy.pi * node.args[0]), str(node)))
         elif isinstance(node, sympy.Mod):
             found.append((sympy.sin(sympy.pi * node.args[0] / node.args[1]), str(node)))
+        elif isinstance(node, InterpolatedFunction) and node.table.wrap is not None:
+            wrap = node.table.wrap       # repeats at first + k * period: a jump or a corner there
+            found.append((sympy.sin(sympy.pi * (node.args[-1] - sympy.Float(wrap.first))
+                                    / sympy.Float(wrap.period)), f"{type(node).__name__} repeats"))
         for zero, label in found:
             zero = _canonical(zero)
             if zero.free_symbols and zero not in seen:

@@ -142,7 +142,8 @@ class SXLowering:
         if isinstance(node, sympy.Piecewise):
             return self._piecewise(node)
         if isinstance(node, InterpolatedFunction):      # tabulated data: compiler/model/interpolation.py
-            return ca.SX(node.table.evaluate(memo[node.args[0]], ca.if_else))
+            return ca.SX(node.table.evaluate(memo[node.args[0]], ca.if_else, ca.floor,
+                                             memo[node.args[-1]]))
         raise LoweringError(f"cannot lower '{type(node).__name__}' (in `{_short(node)}`) to CasADi "
                             f"in {context or self.where}: unsupported function or construct", span)
 

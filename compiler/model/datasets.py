@@ -13,7 +13,8 @@ Where a relative file name is looked for: Dyad reads it relative to the director
 process runs in (a package's tests run in its `test/` folder). A compiled model must not depend on
 the directory dyadc runs in, so dyadc looks beside the package instead, in this order: the package
 root (the folder holding its `dyad/` folder), the package's `test/` folder, the folder of the
-`.dyad` file. `dyad://Pkg/path` is `path` under the root of package `Pkg` on the library path.
+`.dyad` file. `dyad://Pkg/path` is `path` in the `assets/` folder of package `Pkg` on the library
+path (where Dyad's "Working with Data" puts it), else under the package's root.
 
 Reading is bounded (issue 19): a file larger than MAX_DATA_FILE_BYTES is refused before it is
 read, and the numbers it holds count against the element limit (compiler/model/size_limits.py).
@@ -92,7 +93,8 @@ def locate(name: str, span: Span | None, library_roots: list[Path]) -> Path:
             raise DyadError(f"cannot resolve `{name}`: no package `{package}` on the library path"
                             if folder is None else f"`{name}` names no file inside the package",
                             span, hint="write dyad://Package/path/inside/the/package")
-        candidates = [project_root(folder) / rest]
+        root = project_root(folder)
+        candidates = [root / "assets" / rest, root / rest]       # Dyad's documented place first
     elif Path(name).is_absolute():
         candidates = [Path(name)]
     else:

@@ -75,6 +75,9 @@ def resolve_ref(ref: ast.Ref, scope: EvalScope, mode: Mode) -> Any:
         member = enum_member_value(ref.dotted, scope.lexical, ref.span)
         if member is not None:
             return member
+    if object_calls.is_object_part(ref, scope):      # `table["velocity"]`: data of a dataset
+        return object_calls.object_part_value(ref, scope,
+                                              lambda arg, at: evaluate(arg, at, Mode.STRUCTURAL))
     current = scope.lookup(first.name, mode, ref.span)
     current = apply_indices(current, first.indices, first.name, scope, ref.span)
     walked = first.name

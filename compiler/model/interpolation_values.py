@@ -54,7 +54,10 @@ def dataset_interpolation(call: ast.Call, scope: Any, structural: Structural,
         return None
     (u, u_label), (t, t_label) = columns
     table = _build(kind, u, t, f"{kind.name} of {u_label} over {t_label}", call.span, None)
-    return extrapolated(table, t[0], t[-1], how)
+    try:
+        return extrapolated(table, t[0], t[-1], how)
+    except InterpolationError as exc:
+        raise DyadError(f"cannot extrapolate {table.label}: {exc}", call.args[3].span) from None
 
 
 def _table(call: ast.Call, scope: Any, structural: Structural) -> table2d.Table2D | None:
@@ -78,7 +81,9 @@ def _dimension(expr: ast.Expr, scope: Any, structural: Structural) -> str | None
                         hint=f"write e.g. {table2d.DIMENSION_TYPE}.LinearInterpolationDimension()")
     name = _enum_member(expr, scope, structural, table2d.DIMENSION_TYPE, "an argument")
     if name is not None and name not in table2d.DIMENSION_KINDS:
-        raise DyadError(f"`{name}` is not supported by dyadc yet", getattr(expr, "span", None),
+        raise DyadError(f"`{name}` is not supported by dyadc yet: Dyad documents only its "
+                        f"highest derivative order, not the degree or the knots of its B-spline",
+                        getattr(expr, "span", None),
                         hint=f"use one of {', '.join(table2d.DIMENSION_KINDS)}")
     return table2d.DIMENSION_KINDS.get(name)
 
@@ -151,10 +156,15 @@ def _of_file(kind: InterpolationKind | None, call: ast.Call, scope: Any,
 def read_file_dataset(name: str, independent: str, dependent: tuple[str, ...], scope: Any,
                       span: Span | None) -> datasets.Dataset:
     """The columns of data file `name` (found as DyadDataset finds it) written at `span`."""
+    return datasets.from_csv(locate_data_file(name, scope, span), independent, dependent, span)
+
+
+def locate_data_file(name: str, scope: Any, span: Span | None) -> Path:
+    """Data file `name` as a DyadDataset written at `span` finds it, noted as a source read."""
     library = scope.lexical.library
     path = datasets.locate(name, span, list(getattr(library, "roots", [])))
     _note_read(library, datasets.candidates_read(name, span) + [path])
-    return datasets.from_csv(path, independent, dependent, span)
+    return path
 
 
 def _note_read(library: Any, paths: list[Path]) -> None:

@@ -8,6 +8,9 @@ resolved Julia function; it imports neither compiler.julia nor object_values.py.
 - `interpolator(u)` through a parameter holding an interpolator (compiler/model/object_values.py);
 - `density(port.medium, p)`: the Julia method the medium's struct picks (compiler/julia/objects.py).
 
+`object_part_value` gives `dataset["name"]`, a part of a dataset read as an array (a 2-D table's
+axis or data, a dataset's column), for the evaluator's references.
+
 Handlers evaluate Dyad expressions only through the `Evaluator` they are handed, so neither
 imports the evaluator and no import cycle passes through them.
 """
@@ -19,7 +22,7 @@ from typing import Any, Callable
 from compiler.errors import DyadError
 from compiler.julia import inline as julia_inline
 from compiler.julia.objects import medium_call
-from compiler.model.object_values import interpolator_call
+from compiler.model.object_values import interpolator_call, object_part
 from compiler.syntax import ast
 
 OBJECT_CALLS = (interpolator_call, medium_call)
@@ -58,3 +61,15 @@ def _scalars_only(evaluate: Callable[[ast.Expr, Any], Any], call: ast.Call):
                             getattr(arg, "span", None) or call.span)
         return value
     return scalar
+
+
+def is_object_part(ref: ast.Ref, scope: Any) -> bool:
+    """Is `ref` written `dataset["name"]`, `dataset` a Julia-object parameter of the scope?"""
+    first = ref.parts[0]
+    return len(ref.parts) == 1 and len(first.indices) == 1 and first.name not in scope.bindings \
+        and first.name in getattr(scope.node, "path_fields", {})
+
+
+def object_part_value(ref: ast.Ref, scope: Any, structural: Callable[[Any, Any], Any]) -> Any:
+    """The value of `dataset["name"]` (compiler/model/object_values.py)."""
+    return object_part(ref, scope, structural)

@@ -15,7 +15,9 @@ equation calls it (`interpolator_call`, one of the object calls of compiler/mode
 `object_value` evaluates the binding with the rules below; a value it cannot build (no binding, a Julia call it does not know) is None, and
 the call stays opaque as before: enough for `dyadc check`, refused by a run.
 
-- `DyadDataset(...)`: compiler/model/datasets.py; `LinearInterpolation`, ... : the kinds of
+- `DyadDataset(...)`: compiler/model/datasets.py; `DyadInterpolationTable2D(...)`:
+  compiler/model/datasets_2d.py, its parts read back by name (`object_part`);
+  `LinearInterpolation`, ... : the kinds of
   compiler/model/interpolation.py;
 - `dataset_interpolation(...)` in each of its forms and `Kind(values, times)` directly:
   compiler/model/interpolation_values.py (BlockComponents' Julia helper of that name, whose
@@ -29,7 +31,7 @@ from typing import Any, Callable
 
 from compiler.errors import DyadError, Span
 from compiler.julia.objects import Evaluator, opaque, path_field_of
-from compiler.model import datasets, interpolation, interpolation_values, table2d
+from compiler.model import datasets, datasets_2d, interpolation, interpolation_values, table2d
 from compiler.model.interpolation import KINDS, InterpolationKind, PiecewisePolynomial
 from compiler.syntax import ast
 
@@ -38,6 +40,8 @@ from compiler.syntax import ast
 _DATASET_FUNCTIONS = ("DyadDataset", "DyadData.DyadDataset", "DyadTimeseries",
                       "DyadData.DyadTimeseries")
 _INTERPOLATE_FUNCTION = "dataset_interpolation"
+_TABLE_2D_FUNCTIONS = ("DyadInterpolationTable2D", "DyadData.DyadInterpolationTable2D")
+_TABLE_2D_NAMES = ("axis1_name", "axis2_name", "data_name")
 
 Structural = Callable[[ast.Expr, Any], Any]     # a compile-time value of an expression in a scope
 
@@ -119,7 +123,7 @@ def applied(table: PiecewisePolynomial, path: str, arguments: list, span: Span |
     """`interpolator(u)` in an equation: the interpolant named `path` applied to `u`."""
     if len(arguments) != 1:
         raise DyadError(f"`{path}` interpolates one argument, got {len(arguments)}", span)
-    return interpolation.function(table, path)(arguments[0])
+    return interpolation.applied_to(table, path, arguments[0])
 
 
 def evaluate_object(expr: ast.Expr, scope: Any, structural: Structural) -> Any:
@@ -129,6 +133,8 @@ def evaluate_object(expr: ast.Expr, scope: Any, structural: Structural) -> Any:
         function = expr.function
         if function in _DATASET_FUNCTIONS:
             return _dataset(expr, scope, structural)
+        if function in _TABLE_2D_FUNCTIONS:
+            return _table_2d(expr, scope, structural)
         if function.rpartition(".")[2] == _INTERPOLATE_FUNCTION:
             return interpolation_values.dataset_interpolation(expr, scope, structural,
                                                               evaluate_object)
@@ -196,3 +202,41 @@ def _strings(expr: ast.Expr, scope: Any, structural: Structural) -> tuple[str, .
                  for element in expr.elements)
 
 
+
+
+# ------------------------------------------------------------------- DyadInterpolationTable2D
+
+def _table_2d(call: ast.Call, scope: Any, structural: Structural) -> datasets_2d.GridDataset:
+    keywords = {k.name: k.value for k in call.kwargs}
+    unknown = sorted(set(keywords) - set(_TABLE_2D_NAMES))
+    missing = [name for name in _TABLE_2D_NAMES if name not in keywords]
+    if unknown or missing or len(call.args) != 1:
+        raise DyadError(f"DyadInterpolationTable2D takes a file name and "
+                        f"{', '.join(f'`{n} = ...`' for n in _TABLE_2D_NAMES)}" +
+                        (f"; dyadc does not support the option `{unknown[0]}`" if unknown else ""),
+                        call.span)
+    names = tuple(_string(keywords[name], scope, structural, name) for name in _TABLE_2D_NAMES)
+    file = _string(call.args[0], scope, structural, "the file")
+    path = interpolation_values.locate_data_file(file, scope, call.span)
+    return datasets_2d.from_csv(path, names, call.span)
+
+
+def object_part(ref: ast.Ref, scope: Any, structural: Structural) -> Any:
+    """`table["name"]` as a value, `table` a dataset parameter of the scope's node: a 2-D table's
+    axis (a vector) or data (a matrix), or a dataset's column (a vector)."""
+    part = ref.parts[0]
+    value = object_value(scope.node, part.name, structural)
+    name = structural(part.indices[0], scope)
+    if not isinstance(name, str):
+        raise DyadError(f"a part of `{part.name}` is selected by its name (a string)", ref.span)
+    if isinstance(value, datasets_2d.GridDataset):
+        return value.part(name, ref.span)
+    if isinstance(value, datasets.Dataset) and name in dict(value.columns):
+        import numpy as np
+        import sympy
+        return np.array([sympy.Float(v) for v in value.column(name)], dtype=object)
+    if isinstance(value, datasets.Dataset):
+        raise DyadError(f"the dataset has no column `{name}`; it has "
+                        f"{', '.join(dict(value.columns))}", ref.span)
+    raise DyadError(f"`{part.name}` is not a dataset dyadc can read, so `{ref.dotted}[...]` has no "
+                    f"value here", ref.span)

@@ -94,9 +94,6 @@ def test_without_using_an_unqualified_dyaddata_type_is_unknown(tmp_path):
      "the value column must be a string"),
     ("dataset_interpolation(LinearInterpolation, ds, ds, ds, ds, ds)",
      "got 6 arguments"),
-    ("dataset_interpolation(LinearInterpolation, ds[\"y\"], ds[\"ts\"], "
-     "BlockComponents.Tables.ExtrapolationType.Periodic())",
-     "extrapolation `Periodic` is not supported by dyadc yet"),
     ("dataset_interpolation(LinearInterpolation, ds[\"y\"], ds[\"ts\"], 0)",
      "the fourth argument of `dataset_interpolation` is not a member of "
      "`BlockComponents.Tables.ExtrapolationType`"),
