@@ -1,5 +1,5 @@
 """Arrays the evaluator builds from expressions: ranges (`1:n`, Julia's float ranges), array
-and matrix literals, comprehensions, and the values a `for` loop runs through.
+and matrix literals, comprehensions, the values a `for` loop runs through, and indexing.
 
 Each function takes the evaluator as its last argument (as the forms of builtins.py do), so this
 module does not import compiler/model/expressions.py, which dispatches to it.
@@ -11,9 +11,9 @@ from typing import Any, Callable
 import numpy as np
 import sympy
 
-from compiler.errors import DyadError, Note
+from compiler.errors import DyadError, Note, Span
 from compiler.model.arithmetic import stack
-from compiler.model.eval_scope import EvalScope, Mode
+from compiler.model.eval_scope import END_BINDING, EvalScope, Mode
 from compiler.model.eval_values import numeric, structural_bool, structural_int
 from compiler.model.functions import as_array, is_array
 from compiler.model.ranges import float_range, is_fractional
@@ -127,3 +127,43 @@ def _vector_comprehension(expr: ast.Comprehension, scope: EvalScope, mode: Mode,
 
     walk(0, scope)
     return stack(elements, expr.span)
+
+
+def indexed(value: Any, indices: tuple[ast.Expr, ...], name: str, scope: EvalScope,
+            span: Span | None, evaluate: Evaluate) -> Any:
+    """`value` indexed by `indices`: 1-based positions, `end` bound to each dimension's size, `:`
+    keeping a dimension; a position out of bounds is a located error."""
+    if not indices:
+        return value
+    if not is_array(value):
+        raise DyadError(f"`{name}` is not an array and cannot be indexed", span)
+    if len(indices) > value.ndim:
+        raise DyadError(f"`{name}` has {value.ndim} dimension(s) but {len(indices)} indices were "
+                        f"given", span)
+    result = value
+    axis = 0
+    for dim, index in enumerate(indices):
+        size = value.shape[dim]
+        if isinstance(index, ast.Colon):
+            axis += 1
+            continue
+        inner = scope.bind(**{END_BINDING: sympy.Integer(size)})
+        picked = evaluate(index, inner, Mode.STRUCTURAL)
+        if is_array(picked):
+            positions = [structural_int(p, span) for p in picked.ravel()]
+            for p in positions:
+                _check_bounds(p, size, name, span)
+            result = np.take(result, [p - 1 for p in positions], axis=axis)
+            axis += 1
+        else:
+            position = structural_int(picked, span)
+            _check_bounds(position, size, name, span)
+            result = np.take(result, position - 1, axis=axis)
+    if is_array(result) and result.ndim == 0:
+        return result.item()
+    return result
+
+
+def _check_bounds(position: int, size: int, name: str, span: Span | None) -> None:
+    if not 1 <= position <= size:
+        raise DyadError(f"index {position} is out of bounds for `{name}` of size {size}", span)

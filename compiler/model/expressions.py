@@ -11,7 +11,6 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
 import sympy
 
 from compiler.errors import DyadError, Span, suggest_name
@@ -103,40 +102,8 @@ def _ref(expr: ast.Ref, scope: EvalScope, mode: Mode) -> Any:
 
 def apply_indices(value: Any, indices: tuple[ast.Expr, ...], name: str, scope: EvalScope,
                   span: Span | None) -> Any:
-    if not indices:
-        return value
-    if not is_array(value):
-        raise DyadError(f"`{name}` is not an array and cannot be indexed", span)
-    if len(indices) > value.ndim:
-        raise DyadError(f"`{name}` has {value.ndim} dimension(s) but {len(indices)} indices were "
-                        f"given", span)
-    result = value
-    axis = 0
-    for dim, index in enumerate(indices):
-        size = value.shape[dim]
-        if isinstance(index, ast.Colon):
-            axis += 1
-            continue
-        inner = scope.bind(**{END_BINDING: sympy.Integer(size)})
-        picked = evaluate(index, inner, Mode.STRUCTURAL)
-        if is_array(picked):
-            positions = [structural_int(p, span) for p in picked.ravel()]
-            for p in positions:
-                _check_bounds(p, size, name, span)
-            result = np.take(result, [p - 1 for p in positions], axis=axis)
-            axis += 1
-        else:
-            position = structural_int(picked, span)
-            _check_bounds(position, size, name, span)
-            result = np.take(result, position - 1, axis=axis)
-    if is_array(result) and result.ndim == 0:
-        return result.item()
-    return result
-
-
-def _check_bounds(position: int, size: int, name: str, span: Span | None) -> None:
-    if not 1 <= position <= size:
-        raise DyadError(f"index {position} is out of bounds for `{name}` of size {size}", span)
+    """`value` indexed by `indices` (1-based, `end` and `:` as Dyad reads them)."""
+    return eval_arrays.indexed(value, indices, name, scope, span, evaluate)
 
 
 def iteration_values(expr: ast.Expr, scope: EvalScope) -> list[Any]:
