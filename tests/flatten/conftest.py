@@ -5,6 +5,7 @@ import textwrap
 from pathlib import Path
 
 import pytest
+import sympy
 
 from compiler.errors import DyadError
 from compiler.model.flatten import flatten_model
@@ -47,6 +48,13 @@ def sources(tmp_path: Path) -> Sources:
 
 def residuals(flat) -> set[str]:
     return {str(e.residual) for e in flat.equations}
+
+
+def solved_single_unknown(flat) -> float:
+    """The value of the one unknown of a model with one equation."""
+    (equation,) = [e.residual for e in flat.equations]
+    (unknown,) = equation.free_symbols
+    return float(sympy.solve(equation, unknown)[0])
 
 
 def parameter_value(flat, name: str) -> float | None:

@@ -3,9 +3,8 @@ values, `Ramp(rate = 3)`, and the case of a `switch` on it that names the member
 in order, to names local to the case: `case Ramp(r)`. Mistakes are located errors."""
 from __future__ import annotations
 
-import sympy
 
-from tests.flatten.conftest import residuals
+from tests.flatten.conftest import residuals, solved_single_unknown
 
 MODES = """
 enum Start =
@@ -30,14 +29,8 @@ end
 """
 
 
-def _x(flat) -> float:
-    (equation,) = [e.residual for e in flat.equations]
-    (x,) = equation.free_symbols
-    return float(sympy.solve(equation, x)[0])
-
-
 def test_the_default_binds_a_field_written_with_a_parameter_of_the_block(sources):
-    assert _x(sources.flatten(MODES, "Block")) == 7
+    assert solved_single_unknown(sources.flatten(MODES, "Block")) == 7
 
 
 def test_a_modifier_gives_fields_by_name_by_position_or_leaves_their_defaults(sources):
@@ -49,7 +42,7 @@ component Top
   block = Block(mode = {given})
 end
 """, "Top")
-        assert _x(flat) == expected, given
+        assert solved_single_unknown(flat) == expected, given
 
 
 def test_a_member_passed_on_through_a_parameter_keeps_its_fields(sources):

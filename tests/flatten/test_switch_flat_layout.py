@@ -4,7 +4,8 @@ closes a case, and the case the subject selects gives the one equation."""
 from __future__ import annotations
 
 import pytest
-import sympy
+
+from tests.flatten.conftest import solved_single_unknown
 
 HEAD = """
 enum Gear = Low | Middle | High
@@ -43,16 +44,10 @@ end
 """
 
 
-def _x(flat) -> float:
-    (equation,) = [e.residual for e in flat.equations]
-    (x,) = equation.free_symbols
-    return float(sympy.solve(equation, x)[0])
-
-
 @pytest.mark.parametrize("body", [CLOSED, OPEN_IN_LOOP], ids=["cases-closed", "cases-open"])
 @pytest.mark.parametrize("member, value", [("Low", 1), ("Middle", 2), ("High", 3)])
 def test_the_selected_case_gives_the_equation(sources, body, member, value):
-    assert _x(sources.flatten(HEAD.format(member=member) + body, "Box")) == value
+    assert solved_single_unknown(sources.flatten(HEAD.format(member=member) + body, "Box")) == value
 
 
 def test_a_case_after_the_switch_is_closed_is_located(sources):
