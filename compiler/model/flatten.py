@@ -21,6 +21,7 @@ from compiler.model.flatten_relations import relation_equations
 from compiler.model.flatten_report import format_flat, summarize  # noqa: F401  (public API)
 from compiler.model.flatten_state import FlattenState
 from compiler.model.flatten_variables import flat_variables, variable_equations
+from compiler.model.instances import instance_notes
 from compiler.model.instantiate import Model, instantiate
 from compiler.model.library import Library, Resolved  # noqa: F401
 from compiler.model.model_spec import definitions_under, load_model, resolve_model  # noqa: F401
@@ -58,10 +59,14 @@ class Flattener:
         for node in nodes:
             if node.path in visual_nodes:
                 continue
-            for variable in node.variables.values():
-                variable_equations(state, variable)
-            for relation, scope in node.relations:
-                relation_equations(state, relation, scope)
+            try:
+                for variable in node.variables.values():
+                    variable_equations(state, variable)
+                for relation, scope in node.relations:
+                    relation_equations(state, relation, scope)
+            except DyadError as err:
+                err.notes.extend(instance_notes(node))
+                raise
         connect_equations, driven = connection_equations(state.graph)
         state.equations.extend(connect_equations)
         unconnected_flows(state, nodes)

@@ -174,6 +174,23 @@ def check_not_recursive(node: Instance, resolved: Resolved, decl: ast.ComponentD
                          "through other components; the instance tree would be infinite")
 
 
+# How many enclosing instances an error inside a component names (innermost first).
+MAX_INSTANCE_NOTES = 4
+
+
+def instance_notes(node: Instance) -> list[Note]:
+    """Where an instance comes from: a note at the declaration of `node` and of each enclosing
+    instance (not the model itself), so that an error inside a library component also points at
+    the line of the user's model that put the component there."""
+    notes: list[Note] = []
+    while node.parent is not None and len(notes) < MAX_INSTANCE_NOTES:
+        if node.decl_span is not None:
+            notes.append(Note(f"in `{node.path}` ({node.resolved.qualified_name}), declared here",
+                              node.decl_span))
+        node = node.parent
+    return notes
+
+
 def scalar_count(instance: Instance) -> int:
     """Scalar parameters, unknowns and instances of an instance and everything in it."""
     return sum(1 + sum(p.scalar_count() for p in node.parameters.values())
