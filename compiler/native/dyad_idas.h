@@ -69,5 +69,6 @@ int dyad_residual(sunrealtype t, N_Vector y, N_Vector yp, N_Vector rr, void *dat
 int dyad_jacobian(sunrealtype t, sunrealtype cj, N_Vector y, N_Vector yp, N_Vector rr,
                   SUNMatrix J, void *data, N_Vector t1, N_Vector t2, N_Vector t3);
 int dyad_roots(sunrealtype t, N_Vector y, N_Vector yp, sunrealtype *g, void *data);
+int dyad_solve_algebraic(Driver *d, double t, const double *x, double *z, const double *p, int max_steps);
 
 #endif
