@@ -117,8 +117,7 @@ def fetch_or_build(folder: Path, key: str, build: Callable[[Path], Path]) -> tup
 def _build_in_new_folder(folder: Path, key: str, build: Callable[[Path], Path]) -> tuple[Path, Path]:
     """(library, its build folder): `build` run in a new build folder; run once more, the folders
     made again, when its folder or the whole cache folder went away under it (nothing of ours
-    removes either while the entry's lock is held; seen about once per full suite run, remover not
-    found; a user's tmp cleaner can)."""
+    removes either while the entry's lock is held; a cleaner of old files in /tmp can)."""
     def attempt() -> tuple[Path, Path] | None:
         private_folder(folder)
         scratch = Path(tempfile.mkdtemp(prefix=f"{BUILD_PREFIX}{key}-", dir=folder))
@@ -157,7 +156,7 @@ def remove_leftovers(folder: Path, key: str) -> list[Path]:
     for path in folder.iterdir():
         name = path.name
         if not (name.startswith((f"{BUILD_PREFIX}{key}-", f".dyad_{key}.", f"dyad_{key}."))
-                or path.lstat().st_mtime < stale_before):
+                or _modified_before(path, stale_before)):
             continue
         if path.is_dir() and name.startswith((BUILD_PREFIX, _OLD_BUILD_PREFIX)):
             shutil.rmtree(path, ignore_errors=True)
@@ -168,6 +167,15 @@ def remove_leftovers(folder: Path, key: str) -> list[Path]:
             continue
         removed.append(path)
     return removed
+
+
+def _modified_before(path: Path, moment: float) -> bool:
+    """Whether `path` was last modified before `moment`; False once it is gone: another entry's
+    build removes its own folder and temp files between this folder's listing and the look."""
+    try:
+        return path.lstat().st_mtime < moment
+    except FileNotFoundError:
+        return False
 
 
 def _replace_text(path: Path, text: str) -> None:

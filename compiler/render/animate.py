@@ -107,9 +107,28 @@ def _frame_renderer(fig, draw_frame, moving: list, dpi: int):
 
 def _build_figure(flat, scene: planar.PlanarScene, tracks: planar.FrameTracks, result):
     """The figure, the function that moves its artists to a time, and the moving artists."""
+    from matplotlib.patches import Polygon
+
+    fig, ax = _axes(flat, scene, tracks)
+    for box in scene.boxes:
+        ax.add_patch(Polygon(box.polygon, closed=True, facecolor=box.color, edgecolor="none", zorder=0))
+    for ground in scene.grounds:
+        x0, y0 = tracks.at(ground.frame, np.array([result.time[0]]))[0]
+        ax.plot([x0], [y0], marker="^", markersize=14, color="#222222", zorder=1)
+    artists = _moving_artists(ax, scene, tracks, result)
+    fig.tight_layout()
+    moving = [artist for group in (artists.bars, artists.rods, artists.barrels, artists.link_edges,
+                                   artists.links, artists.centers, artists.bodies, artists.joints,
+                                   artists.trails)
+              for _, artist in group]
+    moving += [disc for _, disc in artists.payloads] + [artists.label]
+    return fig, lambda t: _draw_frame(artists, tracks, t), moving
+
+
+def _axes(flat, scene: planar.PlanarScene, tracks: planar.FrameTracks):
+    """A figure on its own Agg canvas sized to the scene's extent, and its labelled axes."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
-    from matplotlib.patches import Circle, Polygon
 
     (x_lo, x_hi), (y_lo, y_hi) = _limits(scene, tracks)
     width = 8.0
@@ -124,28 +143,34 @@ def _build_figure(flat, scene: planar.PlanarScene, tracks: planar.FrameTracks, r
     ax.set_ylabel("y [m]")
     ax.set_title(model_title(flat))
     ax.grid(True, alpha=0.25)
+    return fig, ax
 
-    for box in scene.boxes:
-        ax.add_patch(Polygon(box.polygon, closed=True, facecolor=box.color, edgecolor="none", zorder=0))
-    for ground in scene.grounds:
-        x0, y0 = tracks.at(ground.frame, np.array([result.time[0]]))[0]
-        ax.plot([x0], [y0], marker="^", markersize=14, color="#222222", zorder=1)
+
+@dataclass
+class _Artists:
+    """The artists a frame moves, each paired with the part it draws."""
+    bars: list
+    link_edges: list
+    links: list
+    centers: list
+    rods: list
+    barrels: list
+    bodies: list
+    joints: list
+    trails: list
+    payloads: list
+    label: object
+
+
+def _moving_artists(ax, scene: planar.PlanarScene, tracks: planar.FrameTracks, result) -> _Artists:
+    from matplotlib.patches import Circle
 
     def line(**style):
         return ax.plot([], [], solid_capstyle="round", **style)[0]
 
-    bars = [(s, line(color=BAR_COLOR, lw=3, zorder=2)) for s in scene.bars]
-    # Cylinders sit beside the links in the real machine; drawn over them they stay visible.
-    link_edges = [(s, line(color=LINK_EDGE, lw=10, zorder=3)) for s in scene.links]
-    links = [(s, line(color=LINK_COLOR, lw=7, zorder=3.1)) for s in scene.links]
-    centers = [(s, ax.plot([], [], "o", color=LINK_EDGE, markersize=4, zorder=3.2)[0])
-               for s in scene.links if tracks.has(s.center_of_mass)]
-    rods = [(c, line(color=ROD_COLOR, lw=3.5, zorder=4)) for c in scene.cylinders]
-    barrels = [(c, line(color=BARREL_COLOR, lw=8, zorder=4.1)) for c in scene.cylinders]
-    bodies = [(m, ax.plot([], [], "o", color="black", markersize=9, zorder=6)[0]) for m in scene.bodies]
-    joints = [(m, ax.plot([], [], "o", markerfacecolor="white", markeredgecolor="black", markersize=7,
-                          zorder=8)[0]) for m in scene.joints]
-    trails = [(t, line(color=TRAIL_COLOR, lw=1.2, ls="--", zorder=1.5)) for t in scene.tools]
+    def dots(parts, **style):
+        return [(part, ax.plot([], [], "o", **style)[0]) for part in parts]
+
     payloads = []
     for tool in scene.tools:
         payload = _payload(tool, scene, tracks, result)
@@ -153,44 +178,53 @@ def _build_figure(flat, scene: planar.PlanarScene, tracks: planar.FrameTracks, r
             disc = Circle((0, 0), 0.0, facecolor=payload.color, edgecolor="black", lw=0.8, zorder=7)
             ax.add_patch(disc)
             payloads.append((payload, disc))
-    label = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", ha="left", family="monospace",
-                    bbox={"facecolor": "white", "alpha": 0.8, "edgecolor": "none"}, zorder=10)
-    fig.tight_layout()
+    return _Artists(
+        bars=[(s, line(color=BAR_COLOR, lw=3, zorder=2)) for s in scene.bars],
+        # Cylinders sit beside the links in the real machine; drawn over them they stay visible.
+        link_edges=[(s, line(color=LINK_EDGE, lw=10, zorder=3)) for s in scene.links],
+        links=[(s, line(color=LINK_COLOR, lw=7, zorder=3.1)) for s in scene.links],
+        centers=dots([s for s in scene.links if tracks.has(s.center_of_mass)], color=LINK_EDGE,
+                     markersize=4, zorder=3.2),
+        rods=[(c, line(color=ROD_COLOR, lw=3.5, zorder=4)) for c in scene.cylinders],
+        barrels=[(c, line(color=BARREL_COLOR, lw=8, zorder=4.1)) for c in scene.cylinders],
+        bodies=dots(scene.bodies, color="black", markersize=9, zorder=6),
+        joints=dots(scene.joints, markerfacecolor="white", markeredgecolor="black", markersize=7, zorder=8),
+        trails=[(t, line(color=TRAIL_COLOR, lw=1.2, ls="--", zorder=1.5)) for t in scene.tools],
+        payloads=payloads,
+        label=ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", ha="left", family="monospace",
+                      bbox={"facecolor": "white", "alpha": 0.8, "edgecolor": "none"}, zorder=10))
 
-    def draw_frame(t: float) -> None:
-        when = np.array([t])
-        for segments in (bars, link_edges, links):
-            for segment, artist in segments:
-                a, b = tracks.at(segment.start, when)[0], tracks.at(segment.end, when)[0]
-                artist.set_data([a[0], b[0]], [a[1], b[1]])
-        for segment, artist in centers:
-            c = tracks.at(segment.center_of_mass, when)[0]
-            artist.set_data([c[0]], [c[1]])
-        for markers in (bodies, joints):
-            for marker, artist in markers:
-                p = tracks.at(marker.frame, when)[0]
-                artist.set_data([p[0]], [p[1]])
-        for (cylinder, rod), (_, barrel) in zip(rods, barrels):
-            base, tip = tracks.at(cylinder.base, when)[0], tracks.at(cylinder.rod, when)[0]
-            barrel_start, barrel_end, rod_start = cylinder_geometry(base, tip, cylinder.retracted_length)
-            barrel.set_data([barrel_start[0], barrel_end[0]], [barrel_start[1], barrel_end[1]])
-            rod.set_data([rod_start[0], tip[0]], [rod_start[1], tip[1]])
-        for tool, artist in trails:
-            past = np.append(tracks.time[tracks.time < t], t)
-            path = tracks.at(tool.frame, past)
-            artist.set_data(path[:, 0], path[:, 1])
-        text = [f"t = {t:6.2f} s"]
-        for payload, disc in payloads:
-            mass = float(np.interp(t, tracks.time, payload.mass))
-            disc.center = tuple(tracks.at(payload.anchor, when)[0])
-            disc.set_radius(payload.max_radius * np.sqrt(max(mass, 0.0) / payload.capacity))
-            text.append(f"payload {mass:6.1f} kg")
-        label.set_text("\n".join(text))
 
-    moving = [artist for group in (bars, rods, barrels, link_edges, links, centers, bodies, joints, trails)
-              for _, artist in group]
-    moving += [disc for _, disc in payloads] + [label]
-    return fig, draw_frame, moving
+def _draw_frame(artists: _Artists, tracks: planar.FrameTracks, t: float) -> None:
+    """Every moving artist placed where its part is at time `t`."""
+    when = np.array([t])
+    for segments in (artists.bars, artists.link_edges, artists.links):
+        for segment, artist in segments:
+            a, b = tracks.at(segment.start, when)[0], tracks.at(segment.end, when)[0]
+            artist.set_data([a[0], b[0]], [a[1], b[1]])
+    for segment, artist in artists.centers:
+        c = tracks.at(segment.center_of_mass, when)[0]
+        artist.set_data([c[0]], [c[1]])
+    for markers in (artists.bodies, artists.joints):
+        for marker, artist in markers:
+            p = tracks.at(marker.frame, when)[0]
+            artist.set_data([p[0]], [p[1]])
+    for (cylinder, rod), (_, barrel) in zip(artists.rods, artists.barrels):
+        base, tip = tracks.at(cylinder.base, when)[0], tracks.at(cylinder.rod, when)[0]
+        barrel_start, barrel_end, rod_start = cylinder_geometry(base, tip, cylinder.retracted_length)
+        barrel.set_data([barrel_start[0], barrel_end[0]], [barrel_start[1], barrel_end[1]])
+        rod.set_data([rod_start[0], tip[0]], [rod_start[1], tip[1]])
+    for tool, artist in artists.trails:
+        past = np.append(tracks.time[tracks.time < t], t)
+        path = tracks.at(tool.frame, past)
+        artist.set_data(path[:, 0], path[:, 1])
+    text = [f"t = {t:6.2f} s"]
+    for payload, disc in artists.payloads:
+        mass = float(np.interp(t, tracks.time, payload.mass))
+        disc.center = tuple(tracks.at(payload.anchor, when)[0])
+        disc.set_radius(payload.max_radius * np.sqrt(max(mass, 0.0) / payload.capacity))
+        text.append(f"payload {mass:6.1f} kg")
+    artists.label.set_text("\n".join(text))
 
 
 def cylinder_geometry(base: np.ndarray, tip: np.ndarray, retracted_length: float):

@@ -126,6 +126,28 @@ def _parse_case(model: str, name: str, spec: Any, span: Span | None) -> TestCase
         hints = [f" (did you mean expect.{k}?)" if k in _EXPECT_KEYS else "" for k in unknown]
         notes.append("ignored unknown key(s) " + ", ".join(k + h for k, h in zip(unknown, hints))
                      + " of the case, as Dyad does; known keys: " + ", ".join(sorted(_KNOWN_KEYS)))
+    stop, start, points = _time_grid(spec, where, span)
+    signals, final, expect_initial = _expectations(spec, where, span)
+    if not signals and not final and not expect_initial:
+        notes.append("the case expects no values: it checks that the run succeeds (as Dyad's "
+                     "generated test does)")
+    initial_values = _values(spec.get("initial", {}), f'{where}: "initial"', "initial value", span)
+    compared = list(dict.fromkeys(list(signals) + list(final) + list(expect_initial)))
+    atol, signal_rtol, defaults = _signal_tolerances(spec, compared, where, span)
+    if "rtol" in spec:
+        rtol = _positive(spec["rtol"], f'{where}: "rtol" (integrator tolerance)', span)
+    else:
+        rtol = None if any(signal in defaults for signal in signals) else DEFAULT_RTOL
+    nominal = spec.get("nominal", {})
+    if not isinstance(nominal, dict):
+        raise DyadError(f'{where}: "nominal" must be an object of unknown: size', span)
+    nominal = {k: _positive(v, f'{where}: nominal of "{k}"', span) for k, v in nominal.items()}
+    return TestCase(model, name, stop, start, points, rtol, tuple(signals), atol, signal_rtol,
+                    nominal, final, span, initial_values, expect_initial, defaults, tuple(notes))
+
+
+def _time_grid(spec: dict, where: str, span: Span | None) -> tuple[float, float, int]:
+    """(stop, start, points) of a case."""
     if "stop" not in spec:
         raise DyadError(f'{where} has no "stop" time', span)
     stop = _number(spec["stop"], f'{where}: "stop"', span)
@@ -135,6 +157,11 @@ def _parse_case(model: str, name: str, spec: Any, span: Span | None) -> TestCase
     points = spec.get("points", DEFAULT_POINTS)
     if not isinstance(points, int) or isinstance(points, bool) or points < 2:
         raise DyadError(f'{where}: "points" must be an integer >= 2', span)
+    return stop, start, points
+
+
+def _expectations(spec: dict, where: str, span: Span | None) -> tuple[list, dict, dict]:
+    """(signals compared over time, final values, initial values) of a case's "expect"."""
     expect = spec.get("expect", {})
     if not isinstance(expect, dict):
         raise DyadError(f'{where}: "expect" must be an object', span)
@@ -148,13 +175,12 @@ def _parse_case(model: str, name: str, spec: Any, span: Span | None) -> TestCase
     if len(set(signals)) != len(signals):
         raise DyadError(f'{where}: "expect.signals" names a signal twice', span)
     final = _values(expect.get("final", {}), f'{where}: "expect.final"', "final value", span)
-    expect_initial = _values(expect.get("initial", {}), f'{where}: "expect.initial"',
-                             "initial value", span)
-    if not signals and not final and not expect_initial:
-        notes.append("the case expects no values: it checks that the run succeeds (as Dyad's "
-                     "generated test does)")
-    initial_values = _values(spec.get("initial", {}), f'{where}: "initial"', "initial value", span)
-    compared = list(dict.fromkeys(list(signals) + list(final) + list(expect_initial)))
+    initial = _values(expect.get("initial", {}), f'{where}: "expect.initial"', "initial value", span)
+    return signals, final, initial
+
+
+def _signal_tolerances(spec: dict, compared: list, where: str, span: Span | None):
+    """(atol, rtol of each compared signal, the signals on Dyad's default comparison)."""
     atol = _per_signal(spec.get("atol"), compared, None, f'{where}: "atol"', span)
     defaults = tuple(signal for signal in compared if atol[signal] is None)
     signal_rtol = _per_signal(spec.get("signal_rtol"), compared, None, f'{where}: "signal_rtol"', span)
@@ -165,16 +191,7 @@ def _parse_case(model: str, name: str, spec: Any, span: Span | None) -> TestCase
                 signal_rtol[signal] = DYAD_DEFAULT_RTOL
         elif signal_rtol[signal] is None:
             signal_rtol[signal] = DEFAULT_SIGNAL_RTOL
-    if "rtol" in spec:
-        rtol = _positive(spec["rtol"], f'{where}: "rtol" (integrator tolerance)', span)
-    else:
-        rtol = None if any(signal in defaults for signal in signals) else DEFAULT_RTOL
-    nominal = spec.get("nominal", {})
-    if not isinstance(nominal, dict):
-        raise DyadError(f'{where}: "nominal" must be an object of unknown: size', span)
-    nominal = {k: _positive(v, f'{where}: nominal of "{k}"', span) for k, v in nominal.items()}
-    return TestCase(model, name, stop, start, points, rtol, tuple(signals), atol, signal_rtol,
-                    nominal, final, span, initial_values, expect_initial, defaults, tuple(notes))
+    return atol, signal_rtol, defaults
 
 
 def _values(value: Any, what: str, kind: str, span: Span | None) -> dict[str, float]:

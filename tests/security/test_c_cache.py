@@ -265,3 +265,32 @@ def test_a_build_whose_whole_cache_folder_is_removed_under_it_is_built_again(tmp
     library, built = c_cache.fetch_or_build(cache, "ee" * 8, build)
     assert built and len(attempts) == 2
     assert library.read_bytes() == b"again" and c_cache.valid_entry(cache, "ee" * 8) == library
+
+
+def test_another_entrys_build_folder_that_goes_while_the_folder_is_listed_is_passed_over(tmp_path, monkeypatch):
+    """Another process finishes its own entry's build and removes that build folder between this
+    build's listing of the shared folder and its look at the folder's age: the build goes on (the
+    suite's processes share one C folder; this fell back to the VM now and then)."""
+    cache = tmp_path / "cache"
+    cache.mkdir()
+    other = cache / f"{c_cache.BUILD_PREFIX}{'ab' * 16}-x1y2z3"
+    other.mkdir()
+    listed = type(cache).iterdir
+
+    def listing_then_the_other_build_finishes(folder):
+        entries_now = list(listed(folder))
+        if folder == cache and other.exists():
+            other.rmdir()                           # its owner removes it after the listing
+        return iter(entries_now)
+
+    monkeypatch.setattr(type(cache), "iterdir", listing_then_the_other_build_finishes)
+    assert c_cache.remove_leftovers(cache, "cd" * 16) == []
+
+    def build(scratch: Path) -> Path:
+        (scratch / "lib.so").write_bytes(b"built")
+        return scratch / "lib.so"
+
+    other.mkdir()
+    library, built = c_cache.fetch_or_build(cache, "cd" * 16, build)
+    assert built and library.read_bytes() == b"built"
+    assert not other.exists() and c_cache.valid_entry(cache, "cd" * 16) == library
