@@ -205,8 +205,9 @@ static double largest_magnitude(const double *v, int n) {
 int dyad_solve_algebraic(Driver *d, double t, const double *x, double *z, const double *p, int max_steps) {
   int nz = d->nz, i, steps = 0, outcome = 0;
   double *a = malloc(((size_t)nz * nz + 3 * (size_t)nz + d->np + 1) * sizeof(double));
-  double *step = a + (size_t)nz * nz, *trial = step + nz, *held = trial + nz, *p_held = held + nz;
-  double residual = 0.0;
+  double *step, *trial, *held, *p_held, residual = 0.0;
+  if (!a) return -1;
+  step = a + (size_t)nz * nz; trial = step + nz; held = trial + nz; p_held = held + nz;
   memcpy(p_held, d->p, d->np * sizeof(double));
   memcpy(d->p, p, d->np * sizeof(double));
   memcpy(held, z, nz * sizeof(double));
