@@ -32,48 +32,87 @@ def _preference(var, has_der: bool):
 
 
 def eliminate_aliases(flat: FlatSystem) -> AliasResult:
-    variables = {v.name: v for v in flat.variables}
-    var_symbols = {sympy.Symbol(n): n for n in variables}
-    der_of = dict(flat.derivatives)                                  # der name -> var name
-    has_der = {name: False for name in variables}
-    for var in der_of.values():
-        has_der[var] = True
-    parameter_symbols = {sympy.Symbol(p.name) for p in flat.parameters}
-
-    mapping: dict[sympy.Symbol, sympy.Expr] = {}     # eliminated symbol -> expr (may chain)
+    state = _Aliasing.of(flat)
     equations = list(flat.equations)
     residuals = [eq.residual for eq in equations]
-    alive = [True] * len(equations)
-    rejected = [False] * len(equations)
+    alive, passes = state.run(residuals)
+    resolved = {state.var_symbols[s]: _resolve(e, state.mapping, {}) for s, e in state.mapping.items()}
+    kept_equations = [Equation(_resolve(residuals[i], state.mapping, state.derivative_mapping),
+                               eq.origin, eq.kind, eq.description)
+                      for i, eq in enumerate(equations) if alive[i]]
+    eliminated_names = set(resolved)
+    kept = [v.name for v in flat.variables if v.name not in eliminated_names]
+    derivatives = {d: v for d, v in dict(flat.derivatives).items() if v not in eliminated_names}
+    derivatives.update({d: v for d, v in state.new_derivatives.items() if v not in eliminated_names})
+    return AliasResult(kept_equations, kept, resolved, derivatives, state.derivative_mapping,
+                       removed_equations=len(equations) - len(kept_equations), passes=passes)
 
-    def is_constant(expr: sympy.Expr) -> bool:
-        return all(s in parameter_symbols for s in free_symbols(expr))
 
-    def classify(residual: sympy.Expr):
-        """Return (var_symbol, expression) if residual says var = expression with no other unknowns
+@dataclass
+class _Aliasing:
+    """What the elimination knows while it runs: the model's variables and parameters, which
+    variables have derivatives, and what has been eliminated so far (symbol -> expression, which
+    may name other eliminated symbols until resolved)."""
+    variables: dict
+    var_symbols: dict[sympy.Symbol, str]
+    has_der: dict[str, bool]
+    parameter_symbols: set
+    mapping: dict[sympy.Symbol, sympy.Expr] = field(default_factory=dict)
+    derivative_mapping: dict[sympy.Symbol, sympy.Expr] = field(default_factory=dict)
+    new_derivatives: dict[str, str] = field(default_factory=dict)
+
+    @classmethod
+    def of(cls, flat: FlatSystem) -> "_Aliasing":
+        variables = {v.name: v for v in flat.variables}
+        has_der = {name: False for name in variables}
+        for var in dict(flat.derivatives).values():
+            has_der[var] = True
+        return cls(variables, {sympy.Symbol(n): n for n in variables}, has_der,
+                   {sympy.Symbol(p.name) for p in flat.parameters})
+
+    def run(self, residuals: list) -> tuple[list[bool], int]:
+        """Eliminate until a pass finds nothing (substituting creates new aliases); `residuals` are
+        updated in place. Returns which equations are left and the number of passes."""
+        alive = [True] * len(residuals)
+        rejected = [False] * len(residuals)
+        passes, changed = 0, True
+        while changed:
+            changed = False
+            passes += 1
+            for i, residual in enumerate(residuals):
+                if not alive[i]:
+                    continue
+                symbols = free_symbols(residual)
+                if symbols & self.mapping.keys() or symbols & self.derivative_mapping.keys():
+                    residual = _resolve(residual, self.mapping, self.derivative_mapping)
+                    residuals[i] = residual
+                elif rejected[i]:
+                    continue            # unchanged since classify said no: it says no again
+                found = self.classify(residual)
+                if found is None:
+                    rejected[i] = True
+                    continue
+                self.eliminate(*found)
+                alive[i] = False
+                changed = True
+        return alive, passes
+
+    def classify(self, residual: sympy.Expr):
+        """(var_symbol, expression) if `residual` says var = expression with no other unknowns
         than (at most) one aliased variable; else None."""
         symbols = free_symbols(residual)
         if TIME in symbols:
             return None
-        unknowns = [s for s in symbols if s not in parameter_symbols]
-        if not unknowns or len(unknowns) > 2 or any(s not in var_symbols for s in unknowns):
+        unknowns = [s for s in symbols if s not in self.parameter_symbols]
+        if not unknowns or len(unknowns) > 2 or any(s not in self.var_symbols for s in unknowns):
             return None
         if not residual.is_Add and len(unknowns) == 1 and residual == unknowns[0]:
             return unknowns[0], sympy.Integer(0)
-        found = _linear_terms(residual, unknowns)
-        if found is not None:
-            coefficients, rest = found
-        else:
-            coefficients = {}
-            rest = residual
-            for s in unknowns:
-                c = residual.coeff(s)
-                if not c.is_number or c == 0:
-                    return None
-                coefficients[s] = c
-                rest = rest - c * s
-            rest = sympy.expand(rest) if free_symbols(rest) & set(unknowns) else rest
-        if free_symbols(rest) & set(unknowns) or not is_constant(rest):
+        found = _linear_terms(residual, unknowns) or _number_coefficients(residual, unknowns)
+        if found is None:
+            return None
+        coefficients, rest = found
+        if free_symbols(rest) & set(unknowns) or not free_symbols(rest) <= self.parameter_symbols:
             return None
         if len(unknowns) == 1:
             s = unknowns[0]
@@ -82,66 +121,44 @@ def eliminate_aliases(flat: FlatSystem) -> AliasResult:
         if abs(coefficients[a]) != abs(coefficients[b]):
             return None
         # pick which one to eliminate: the worse representative
-        key_a = _preference(variables[var_symbols[a]], has_der[var_symbols[a]])
-        key_b = _preference(variables[var_symbols[b]], has_der[var_symbols[b]])
+        key_a = _preference(self.variables[self.var_symbols[a]], self.has_der[self.var_symbols[a]])
+        key_b = _preference(self.variables[self.var_symbols[b]], self.has_der[self.var_symbols[b]])
         elim, keep = (a, b) if key_a > key_b else (b, a)
         return elim, _divide(-_add(_multiply(coefficients[keep], keep), rest), coefficients[elim])
 
-    derivative_mapping: dict[sympy.Symbol, sympy.Expr] = {}
-    new_derivatives: dict[str, str] = {}
+    def eliminate(self, sym: sympy.Symbol, expr: sympy.Expr) -> None:
+        """`sym` := `expr`; its derivative follows: der(sym) is 0, or s * der(kept variable)."""
+        self.mapping[sym] = expr
+        name = self.var_symbols[sym]
+        if not self.has_der[name]:
+            return
+        dsym = sympy.Symbol(der_name(name))
+        keep_vars = [s for s in free_symbols(expr) if s in self.var_symbols]
+        if not keep_vars:
+            self.derivative_mapping[dsym] = sympy.Integer(0)
+            return
+        (keep,) = keep_vars
+        keep_name = self.var_symbols[keep]
+        if not self.has_der[keep_name]:
+            self.has_der[keep_name] = True
+            self.new_derivatives[der_name(keep_name)] = keep_name
+        self.derivative_mapping[dsym] = (sympy.S.One if expr is keep else expr.coeff(keep)) \
+            * sympy.Symbol(der_name(keep_name))
 
-    def eliminate(sym: sympy.Symbol, expr: sympy.Expr) -> None:
-        mapping[sym] = expr
-        name = var_symbols[sym]
-        if has_der[name]:
-            dsym = sympy.Symbol(der_name(name))
-            keep_vars = [s for s in free_symbols(expr) if s in var_symbols]
-            if not keep_vars:
-                derivative_mapping[dsym] = sympy.Integer(0)
-            else:
-                (keep,) = keep_vars
-                keep_name = var_symbols[keep]
-                keep_der = sympy.Symbol(der_name(keep_name))
-                if not has_der[keep_name]:
-                    has_der[keep_name] = True
-                    new_derivatives[der_name(keep_name)] = keep_name
-                derivative_mapping[dsym] = (sympy.S.One if expr is keep else expr.coeff(keep)) * keep_der
 
-    passes = 0
-    changed = True
-    while changed:
-        changed = False
-        passes += 1
-        for i, residual in enumerate(residuals):
-            if not alive[i]:
-                continue
-            symbols = free_symbols(residual)
-            if symbols & mapping.keys() or symbols & derivative_mapping.keys():
-                residual = _resolve(residual, mapping, derivative_mapping)
-                residuals[i] = residual
-            elif rejected[i]:
-                continue            # unchanged since classify said no: it says no again
-            found = classify(residual)
-            if found is None:
-                rejected[i] = True
-                continue
-            sym, expr = found
-            eliminate(sym, expr)
-            alive[i] = False
-            changed = True
-
-    resolved = {var_symbols[s]: _resolve(e, mapping, {}) for s, e in mapping.items()}
-    kept_equations = []
-    for i, eq in enumerate(equations):
-        if alive[i]:
-            kept_equations.append(Equation(_resolve(residuals[i], mapping, derivative_mapping),
-                                           eq.origin, eq.kind, eq.description))
-    eliminated_names = set(resolved)
-    kept = [v.name for v in flat.variables if v.name not in eliminated_names]
-    derivatives = {d: v for d, v in der_of.items() if v not in eliminated_names}
-    derivatives.update({d: v for d, v in new_derivatives.items() if v not in eliminated_names})
-    return AliasResult(kept_equations, kept, resolved, derivatives, derivative_mapping,
-                       removed_equations=len(equations) - len(kept_equations), passes=passes)
+def _number_coefficients(residual: sympy.Expr, unknowns: list[sympy.Symbol]):
+    """(coefficients, rest) where each unknown's coefficient in `residual` is a nonzero number
+    (the general path of classify, through `coeff`); None otherwise."""
+    coefficients = {}
+    rest = residual
+    for s in unknowns:
+        c = residual.coeff(s)
+        if not c.is_number or c == 0:
+            return None
+        coefficients[s] = c
+        rest = rest - c * s
+    rest = sympy.expand(rest) if free_symbols(rest) & set(unknowns) else rest
+    return coefficients, rest
 
 
 def _resolve(expr: sympy.Expr, mapping: dict, derivative_mapping: dict) -> sympy.Expr:
