@@ -265,5 +265,13 @@ DYAD_EXPORT void dyad_ida_stats(Driver *d, long *out) {
   IDAGetNumNonlinSolvConvFails(d->ida, &out[6]);
 }
 
+/* z solving the algebraic equations at (t, x) with parameters p by Newton steps from z (in place;
+ * dyad_solve_algebraic): 1 converged to round-off, 0 not, -1 where no step can be taken. IDAS is
+ * not touched. */
+DYAD_EXPORT int dyad_ida_solve_algebraic(Driver *d, double t, const double *x, double *z, const double *p,
+                                         int max_steps) {
+  return dyad_solve_algebraic(d, t, x, z, p, max_steps);
+}
+
 /* The SUNDIALS version this library was built from. */
 DYAD_EXPORT const char *dyad_ida_sundials_version(void) { return SUNDIALS_VERSION; }

@@ -80,5 +80,6 @@ int dyad_allocate_floors(Driver *d);
 void dyad_free_floors(Driver *d);
 int dyad_floor_tolerances(Driver *d, double t, const double *y);
 int dyad_roots(sunrealtype t, N_Vector y, N_Vector yp, sunrealtype *g, void *data);
+int dyad_solve_algebraic(Driver *d, double t, const double *x, double *z, const double *p, int max_steps);
 
 #endif
