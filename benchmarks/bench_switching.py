@@ -40,6 +40,8 @@ MATCHING_RTOLS = (1e-8, 5e-9, 2e-9, 1e-9, 5e-10, 2e-10, 1e-10, 5e-11, 2e-11, 1e-
 PHASES = (("IDAS integration", ("Function_call",)), ("IDAS construction", ("casadi._casadi.integrator",)),
           ("state-set switches", ("switch_state_set",)),
           ("the restart point at a switch (Levenberg-Marquardt, part of the switches)", ("restart_point",)),
+          ("the algebraic equations solved in C (restart points, crossings; native)", ("algebraic_solution",)),
+          ("the next state set's choice (part of the switches)", ("variants.py:switch",)),
           ("every output at a crossing", ("crossing_values",)), ("checks (watched functions)", ("watched_values",)),
           ("outputs and polishing", ("finish",)),
           ("native IDAS: the driver's calls (integration)", ("library.py:advance",)),

@@ -35,7 +35,7 @@ SOURCE_FOLDERS = ("src/sundials", "src/idas", "src/nvector/serial", "src/sunmatr
 LEFT_OUT = {"sundials_profiler.c",     # built without profiling
             "idas_bbdpre.c"}           # the parallel band-block preconditioner
 FLAGS = ["-O2", "-fPIC", "-fvisibility=hidden"]
-DRIVER_SOURCES = [Path(__file__).with_name(name) for name in ("dyad_idas.c", "dyad_idas_model.c")]
+DRIVER_SOURCES = [Path(__file__).with_name(name) for name in ("dyad_idas.c", "dyad_idas_model.c", "dyad_idas_floors.c")]
 DOWNLOAD_TIMEOUT = 120
 
 

@@ -25,6 +25,7 @@ DYAD_EXPORT void dyad_ida_free(Driver *d) {
   if (d->y) N_VDestroy(d->y);
   if (d->yp) N_VDestroy(d->yp);
   if (d->scratch) N_VDestroy(d->scratch);
+  dyad_free_floors(d);
   if (d->ctx) SUNContext_Free(&d->ctx);
   dyad_free_function(&d->dae); dyad_free_function(&d->jac); dyad_free_function(&d->watch);
   free(d->p); free(d->ode); free(d->alg); free(d->active); free(d->found); free(d->zero_side);
@@ -69,6 +70,11 @@ DYAD_EXPORT Driver *dyad_ida_new(const char *path, int nx, int nz, int np, int n
   d->y = N_VNew_Serial(nx + nz, d->ctx);
   d->yp = N_VNew_Serial(nx + nz, d->ctx);
   d->scratch = N_VNew_Serial(nx + nz, d->ctx);
+  if (dyad_allocate_floors(d) != 0) {
+    snprintf(error, size, "the native IDAS driver's work arrays cannot be allocated");
+    dyad_ida_free(d);
+    return NULL;
+  }
   return d;
 }
 
@@ -93,6 +99,9 @@ DYAD_EXPORT int dyad_ida_setup(Driver *d, double rtol, const double *atol, int s
   N_VConst(0.0, d->y);
   N_VConst(0.0, d->yp);
   d->watch_atol = watch_atol;
+  d->rtol = rtol;
+  d->suppress_alg = suppress_alg != 0;
+  memcpy(d->atol, atol, n * sizeof(double));
   d->ida = IDACreate(d->ctx);
   flag = d->ida ? IDAInit(d->ida, dyad_residual, 0.0, d->y, d->yp) : IDA_MEM_FAIL;
   if (!flag) flag = IDASVtolerances(d->ida, rtol, tolerances);
@@ -122,8 +131,9 @@ DYAD_EXPORT int dyad_ida_setup(Driver *d, double rtol, const double *atol, int s
 }
 
 /* IDAS restarted cold at (t0, x0, z0) with parameters p: der(x) from the model there, der(z) 0
- * (the point solves the algebraic equations already); `active` the watched rows looked at,
- * `step0` the first step (0: IDAS's own). */
+ * (the point solves the algebraic equations already), the algebraic unknowns' tolerances raised
+ * to their round-off there (dyad_idas_floors.c); `active` the watched rows looked at, `step0`
+ * the first step (0: IDAS's own). */
 DYAD_EXPORT int dyad_ida_restart(Driver *d, double t0, const double *x0, const double *z0, const double *p,
                      const int *active, double step0) {
   int i, flag;
@@ -140,6 +150,7 @@ DYAD_EXPORT int dyad_ida_restart(Driver *d, double t0, const double *x0, const d
   memcpy(yp, d->ode, d->nx * sizeof(double));
   for (i = 0; i < d->nz; i++) yp[d->nx + i] = 0.0;
   flag = IDAReInit(d->ida, t0, d->y, d->yp);
+  if (!flag) flag = dyad_floor_tolerances(d, t0, y);
   if (!flag) flag = IDASetInitStep(d->ida, step0 > 0 ? step0 : 0.0);
   return flag;
 }
@@ -252,6 +263,14 @@ DYAD_EXPORT void dyad_ida_stats(Driver *d, long *out) {
   IDAGetNumErrTestFails(d->ida, &out[4]);
   IDAGetNumNonlinSolvIters(d->ida, &out[5]);
   IDAGetNumNonlinSolvConvFails(d->ida, &out[6]);
+}
+
+/* z solving the algebraic equations at (t, x) with parameters p by Newton steps from z (in place;
+ * dyad_solve_algebraic): 1 converged to round-off, 0 not, -1 where no step can be taken. IDAS is
+ * not touched. */
+DYAD_EXPORT int dyad_ida_solve_algebraic(Driver *d, double t, const double *x, double *z, const double *p,
+                                         int max_steps) {
+  return dyad_solve_algebraic(d, t, x, z, p, max_steps);
 }
 
 /* The SUNDIALS version this library was built from. */

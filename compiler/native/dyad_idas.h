@@ -19,6 +19,9 @@
 #include <sunmatrix/sunmatrix_dense.h>
 
 #define DYAD_EXPORT __attribute__((visibility("default")))
+/* the most algebraic unknowns whose round-off floors a restart works out (dyad_idas_floors.c:
+ * an inverse of J_zz, nz^3 operations); above it the set-up tolerances stand */
+#define DYAD_FLOOR_MOST_UNKNOWNS 100
 
 typedef long long int cs_int;
 typedef int (*cs_eval)(const double **arg, double **res, cs_int *iw, double *w, int mem);
@@ -53,6 +56,11 @@ typedef struct {
   int *proposes;           /* rows whose crossing only proposes a state-set switch (the caller decides) */
   double *g;               /* the watched rows at the end of a step */
   double *jac_values[20];  /* the Jacobian blocks d(ode, alg)/d(x, z), by output of jac_dyad_dae */
+  double rtol, *atol;      /* the set-up tolerances */
+  int suppress_alg;        /* the algebraic unknowns out of the error test */
+  N_Vector floor_tolerances;   /* atol with the algebraic unknowns' round-off floors (a restart's) */
+  double *jzz, *jzx, *inverse_column, *terms, **jzz_columns;   /* dyad_idas_floors.c's work */
+  sunindextype *pivots;
   SUNContext ctx;
   void *ida;
   N_Vector y, yp, scratch;
@@ -68,6 +76,10 @@ int dyad_eval_dae(Driver *d, double t, const double *x, const double *z);
 int dyad_residual(sunrealtype t, N_Vector y, N_Vector yp, N_Vector rr, void *data);
 int dyad_jacobian(sunrealtype t, sunrealtype cj, N_Vector y, N_Vector yp, N_Vector rr,
                   SUNMatrix J, void *data, N_Vector t1, N_Vector t2, N_Vector t3);
+int dyad_allocate_floors(Driver *d);
+void dyad_free_floors(Driver *d);
+int dyad_floor_tolerances(Driver *d, double t, const double *y);
 int dyad_roots(sunrealtype t, N_Vector y, N_Vector yp, sunrealtype *g, void *data);
+int dyad_solve_algebraic(Driver *d, double t, const double *x, double *z, const double *p, int max_steps);
 
 #endif

@@ -136,3 +136,99 @@ int dyad_roots(sunrealtype t, N_Vector y, N_Vector yp, sunrealtype *g, void *dat
   }
   return 0;
 }
+
+/* LU with partial pivoting of the n x n column-major `a`, then the solution of a s = b into b;
+ * nonzero where a pivot is zero or not finite */
+static int solve_dense(double *a, double *b, int n) {
+  int i, j, k;
+  for (k = 0; k < n; k++) {
+    int pivot = k;
+    for (i = k + 1; i < n; i++)
+      if (fabs(a[k * n + i]) > fabs(a[k * n + pivot])) pivot = i;
+    if (!(fabs(a[k * n + pivot]) > 0.0) || !isfinite(a[k * n + pivot])) return 1;
+    if (pivot != k) {
+      double swap;
+      for (j = 0; j < n; j++) { swap = a[j * n + k]; a[j * n + k] = a[j * n + pivot]; a[j * n + pivot] = swap; }
+      swap = b[k]; b[k] = b[pivot]; b[pivot] = swap;
+    }
+    for (i = k + 1; i < n; i++) {
+      double factor = a[k * n + i] / a[k * n + k];
+      if (factor == 0.0) continue;
+      for (j = k + 1; j < n; j++) a[j * n + i] -= factor * a[j * n + k];
+      b[i] -= factor * b[k];
+    }
+  }
+  for (k = n - 1; k >= 0; k--) {
+    for (j = k + 1; j < n; j++) b[k] -= a[j * n + k] * b[j];
+    b[k] /= a[k * n + k];
+  }
+  return 0;
+}
+
+/* d(alg)/dz at (t, x, z) (output 7 of jac_dyad_dae) into the dense column-major nz x nz `a` */
+static int algebraic_jacobian(Driver *d, double t, const double *x, const double *z, double *a) {
+  const cs_int *sp = d->jac.sparsity_out(7);
+  const double *v = d->jac_values[7];
+  cs_int nrow, ncol, c, e;
+  int k, nz = d->nz;
+  memset(d->jac.arg, 0, 9 * sizeof(double *));
+  d->jac.arg[0] = &t; d->jac.arg[1] = x; d->jac.arg[2] = z; d->jac.arg[3] = d->p;
+  memset(d->jac.res, 0, d->jac.n_res * sizeof(double *));
+  for (k = 0; k < 20; k++) d->jac.res[k] = d->jac_values[k];
+  if (d->jac.eval(d->jac.arg, d->jac.res, d->jac.iw, d->jac.w, d->jac.mem)) return 1;
+  memset(a, 0, (size_t)nz * nz * sizeof(double));
+  nrow = sp[0]; ncol = sp[1];
+  if (nrow != nz || ncol != nz) return 1;
+  if (sp[2] == 1) {
+    for (c = 0; c < ncol; c++) for (e = 0; e < nrow; e++) a[c * nz + e] = v[c * nrow + e];
+    return 0;
+  }
+  for (c = 0; c < ncol; c++)
+    for (e = sp[2 + c]; e < sp[3 + c]; e++) a[c * nz + sp[3 + ncol + e]] = v[e];
+  return 0;
+}
+
+static double largest_magnitude(const double *v, int n) {
+  double m = 0.0;
+  int i;
+  for (i = 0; i < n; i++) m = fabs(v[i]) > m ? fabs(v[i]) : m;
+  return m;
+}
+
+/* Newton steps on alg(t, x, z, p) = 0 for z (in place), each kept only where it does not raise
+ * the largest residual, until a step moves z by no more than round-off (ROUNDOFF_STEPS ulps of
+ * the largest |z|, or of 1) or `max_steps` are taken. Returns 1 where such a step was found
+ * (converged), 0 where not (z the best point found), -1 where the equations or their Jacobian
+ * have no finite value or the Jacobian is singular (z unchanged). The driver's parameters are
+ * left as they were. */
+#define ROUNDOFF_STEPS 16.0
+int dyad_solve_algebraic(Driver *d, double t, const double *x, double *z, const double *p, int max_steps) {
+  int nz = d->nz, i, steps = 0, outcome = 0;
+  double *a = malloc(((size_t)nz * nz + 3 * (size_t)nz + d->np + 1) * sizeof(double));
+  double *step, *trial, *held, *p_held, residual = 0.0;
+  if (!a) return -1;
+  step = a + (size_t)nz * nz; trial = step + nz; held = trial + nz; p_held = held + nz;
+  memcpy(p_held, d->p, d->np * sizeof(double));
+  memcpy(d->p, p, d->np * sizeof(double));
+  memcpy(held, z, nz * sizeof(double));
+  if (dyad_eval_dae(d, t, x, z)) outcome = -1;
+  else residual = largest_magnitude(d->alg, nz);
+  if (outcome == 0 && residual == 0.0) outcome = 1;
+  while (outcome == 0 && steps < max_steps) {
+    double moved, size = largest_magnitude(z, nz);
+    memcpy(step, d->alg, nz * sizeof(double));
+    if (algebraic_jacobian(d, t, x, z, a) || solve_dense(a, step, nz)) { outcome = -1; break; }
+    moved = largest_magnitude(step, nz);
+    if (!isfinite(moved)) { outcome = -1; break; }
+    for (i = 0; i < nz; i++) trial[i] = z[i] - step[i];
+    if (moved <= ROUNDOFF_STEPS * DBL_EPSILON * (size > 1.0 ? size : 1.0)) outcome = 1;
+    if (dyad_eval_dae(d, t, x, trial) || largest_magnitude(d->alg, nz) > residual) break;
+    memcpy(z, trial, nz * sizeof(double));
+    residual = largest_magnitude(d->alg, nz);
+    steps++;
+  }
+  if (outcome < 0) memcpy(z, held, nz * sizeof(double));
+  memcpy(d->p, p_held, d->np * sizeof(double));
+  free(a);
+  return outcome;
+}

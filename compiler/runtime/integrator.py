@@ -70,6 +70,9 @@ class Stop:
     direction: int = 0                  # a crossing: +1 its watched value rose through zero, -1 fell
     # an event: the other event rows that crossed at the same instant, (row, what, direction)
     together: tuple = ()
+    # z solves the algebraic equations at (t, x) to round-off already (the integrator polished
+    # it): the outputs there need no Newton steps of polishing (switching.all_outputs)
+    settled: bool = False
 
 
 class Integrator(Protocol):

@@ -74,6 +74,6 @@ def clock_on_switches(model: CompiledModel, p: np.ndarray, times, ends) -> list[
 def output_times(grid: np.ndarray, k: int, reach: float) -> list[float]:
     """The output times from grid index k up to `reach`, inclusive."""
     upto = np.searchsorted(grid, reach, side="right")
-    times = [float(v) for v in grid[k:upto]]
+    times = grid[k:upto].tolist()                   # Python floats, in one call
     assert not times or times[0] > grid[k - 1], "output times run backwards"
     return times

@@ -111,7 +111,11 @@ def degraded_level(state_sets: Sequence[Mapping], column: np.ndarray) -> int | N
 
 
 def _smallest_singular(block: np.ndarray) -> float:
-    return float(np.linalg.svd(block, compute_uv=False)[-1]) if block.size else 0.0
+    if not block.size:
+        return 0.0
+    if min(block.shape) == 1:                  # one row or column (a pendulum's rod): its length
+        return float(np.sqrt(np.dot(block.ravel(), block.ravel())))
+    return float(np.linalg.svd(block, compute_uv=False)[-1])
 
 
 def switch_indicators(state_sets: Sequence[Mapping], outputs: ca.SX) -> ca.SX:

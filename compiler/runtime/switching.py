@@ -49,6 +49,12 @@ def switch_state_set(run, model: CompiledModel, values: Mapping[str, float], t: 
         p_new = run.parameter_vectors[id(new)] = new.parameter_vector(run.options.params)
     x_target = np.array([values[n] for n in new.state_names])
     z_guess = np.array([values.get(n, 0.0) for n in new.algebraic_names])
+    # an integrator that solves the algebraic equations itself to round-off (the native driver:
+    # Newton steps in C, 15 us against the least-squares search's 160) saves the search
+    solve = getattr(run.integrator(new), "algebraic_solution", None)
+    solved = solve(t, x_target, z_guess, p_new) if solve is not None else None
+    if solved is not None:
+        return new, x_target, solved, p_new
     point = restart_point(new, p_new, t, x_target, z_guess)
     return new, point.x, point.z, p_new
 
@@ -77,9 +83,12 @@ def singular_everywhere(level: Mapping, column: np.ndarray) -> str:
             f"of the constraints' Jacobian: {largest:.3g})")
 
 
-def all_outputs(model: CompiledModel, x, z, p, t: float) -> np.ndarray:
+def all_outputs(model: CompiledModel, x, z, p, t: float, settled: bool = False) -> np.ndarray:
+    """Every output at one point; z polished by Newton steps first unless `settled` (it solves
+    the algebraic equations to round-off already: Stop.settled)."""
     xs, zs = np.asarray(x).reshape(-1, 1), np.asarray(z).reshape(-1, 1)
     # every Newton step: the next state set starts from these values (SETTLED's second-step test
     # lost the A01 pendulum 0.13 digits over 100 s at rtol 1e-10)
-    zs = polish_algebraics(model, xs, zs, p, np.array([t]), settled=0.0)
+    if not settled:
+        zs = polish_algebraics(model, xs, zs, p, np.array([t]), settled=0.0)
     return evaluate_outputs(model, xs, zs, p, np.array([t]))[:, 0]

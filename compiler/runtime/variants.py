@@ -16,6 +16,7 @@ same variant at the same point.
 """
 from __future__ import annotations
 
+from functools import lru_cache
 from typing import Mapping, Sequence
 
 import numpy as np
@@ -75,15 +76,23 @@ def _selection_entries(values: Mapping[str, float]) -> dict[int, list[tuple[int,
     selection_output). Read from the names present, not looked up by every name a level could
     have: a 32-body chain's first level has 96 rows x 128 candidates, of which 288 occur."""
     found: dict[int, list[tuple[int, str, float]]] = {}
-    for key, value in values.items():
+    for key, level, row, candidate in _selection_layout(tuple(values)):
+        found.setdefault(level, []).append((row, candidate, values[key]))
+    return found
+
+
+@lru_cache(maxsize=64)
+def _selection_layout(names: tuple[str, ...]) -> tuple[tuple[str, int, int, str], ...]:
+    """(name, level, row, candidate) of the selection outputs among `names`, parsed once per
+    variant's output names (a run asks at every switch)."""
+    layout = []
+    for key in names:
         if key.startswith("__select") and key.endswith("]"):
             level, _, rest = key[len("__select"):].partition("[")
             row, _, candidate = rest[:-1].partition(",")
             if level.isdigit() and row.isdigit():
-                found.setdefault(int(level), []).append((int(row), candidate, value))
-    return found
-
-
+                layout.append((key, int(level), int(row), candidate))
+    return tuple(layout)
 
 
 def variant_models(model: CompiledModel) -> dict[frozenset, CompiledModel]:

@@ -71,3 +71,20 @@ def test_a_missing_model_function_is_an_error_that_names_it(tmp_path):
 def test_the_sundials_version_is_the_one_fetched():
     from compiler.native.build import SUNDIALS_VERSION
     assert library.sundials_version() == ".".join(map(str, SUNDIALS_VERSION))
+
+
+def test_the_algebraic_equations_are_solved_to_round_off_in_c(tmp_path):
+    """A point on a circle of radius L at x and its slope b = -x / a, from a guess 10% off
+    (the restart point of a state-set switch); z is left alone where the Jacobian is singular,
+    and no real root is not called converged."""
+    x, z, radius = ca.SX.sym("x", 1), ca.SX.sym("z", 2), ca.SX.sym("L", 1)
+    alg = ca.vertcat(z[0] ** 2 + x ** 2 - radius ** 2, z[0] * z[1] + x)
+    path = model_library(tmp_path, ca.SX(0.0), alg, x, z, radius)
+    driver = library.Driver(str(path), 1, 2, 1, 0)
+    outcome, solved = driver.solve_algebraic(0.0, [0.6], [0.88, -0.66], [1.0], 8)
+    assert outcome == 1
+    np.testing.assert_allclose(solved, [0.8, -0.75], rtol=0, atol=2e-16)
+    outcome, solved = driver.solve_algebraic(0.0, [0.6], [0.0, 0.0], [1.0], 8)
+    assert (outcome, list(solved)) == (-1, [0.0, 0.0])         # d(alg)/dz singular at z = 0
+    outcome, _ = driver.solve_algebraic(0.0, [2.0], [0.5, 1.0], [1.0], 8)
+    assert outcome == 0                                        # no real z: a^2 = 1 - 4

@@ -60,6 +60,7 @@ def _load(path: Path) -> tuple[ctypes.CDLL | None, str]:
         "dyad_ida_advance": (i, [vp, d, i, _DOUBLES, _DOUBLES, _DOUBLES, ctypes.POINTER(i), _DOUBLES,
                                  ctypes.c_long, ctypes.POINTER(d), _DOUBLES, _DOUBLES,
                                  ctypes.POINTER(i), ctypes.POINTER(i), i]),
+        "dyad_ida_solve_algebraic": (i, [vp, d, _DOUBLES, _DOUBLES, _DOUBLES, i]),
         "dyad_ida_stats": (None, [vp, np.ctypeslib.ndpointer(dtype=np.int_, flags="C_CONTIGUOUS")]),
         "dyad_ida_sundials_version": (ci, []),
     }
@@ -127,6 +128,13 @@ class Driver:
                                          int(threading.current_thread() is threading.main_thread()))
         k = self._n.value
         return flag, k, xs[:k].T, zs[:k].T, self._t.value, x, z, self._row.value, self._direction.value
+
+    def solve_algebraic(self, t: float, x, z, p, max_steps: int) -> tuple[int, np.ndarray]:
+        """(1 converged to round-off, 0 not, -1 no Newton step could be taken; z) solving the
+        algebraic equations at (t, x) with parameters p from z, in C (IDAS is not touched)."""
+        solved = np.array(z, dtype=float).reshape(-1)
+        outcome = self.lib.dyad_ida_solve_algebraic(self.handle, t, _vector(x), solved, _vector(p), max_steps)
+        return outcome, solved
 
     def counters(self) -> np.ndarray:
         out = np.zeros(len(COUNTER_NAMES), dtype=np.int_)
