@@ -110,7 +110,4 @@ def _simulate_cached(cached: CachedCompilation, model, options: runtime.Simulati
 def _with_compile_times(result: runtime.Result, timings: Mapping[str, float], model) -> runtime.Result:
     result.stats["compile_time"] = sum(timings.values())
     result.stats["compile_timings"] = dict(timings)
-    result.stats["codegen"] = model.metadata.get("codegen", "vm")
-    if model.metadata.get("codegen_why"):
-        result.stats["codegen_why"] = model.metadata["codegen_why"]      # the VM, not asked for
     return result
