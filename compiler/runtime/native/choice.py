@@ -61,7 +61,7 @@ def why_not_native(model: CompiledModel, options: Mapping) -> str | None:
             return f"it is on CasADi's VM: {model.metadata[CODEGEN_WHY]}"
         if chosen(model) == "vm":
             return "it is on CasADi's VM, with no C library"
-        return "it has no C library (its code was not settled before the run: runtime.simulate settles it)"
+        return "it has no C library"
 
     unhonoured = unhonoured_options(options)
     if unhonoured:
