@@ -6,8 +6,9 @@ with `--codegen c` each one's library beside the module, so the module switches 
 (compiler/runtime/variants.py). A module without its library (`dyadc generate` writes none: its
 text must be reproducible) has it built by its first run where a C compiler is present, by the
 build and cache `dyadc simulate` uses (compiler/runtime/model_code.py), so both run on the same
-code; a standalone module cannot build one and runs on CasADi's VM, saying so. The module imports
-casadi, numpy, the standard library and the run-time package, nothing else:
+code (that build is the one part of dyadc beyond its runtime such a run imports: no sympy or
+lark); a standalone module cannot build one and runs on CasADi's VM, saying so. The module
+imports casadi, numpy, the standard library and the run-time package, nothing else:
 
 - by default the compiler's own `compiler.runtime` (dyadc must be installed where it runs);
 - with `standalone=True` (`dyadc compile --standalone`) a copy of that package written beside the
