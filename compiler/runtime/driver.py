@@ -47,12 +47,12 @@ def simulate(model: CompiledModel, stop: float | None = None, *, options: Simula
     `stats["integrator_why"]`. A model whose code is not settled yet is put on it first
     (model_code.py: its C library built where a C compiler is present), reported in
     `stats["codegen"]` (and `["codegen_why"]`)."""
-    model = on_its_code(model)
     if options is None:
         options = SimulationOptions(stop=stop, **settings)
     elif stop is not None or settings:
         raise TypeError("pass either options or keyword settings, not both")
     options = options.validated()
+    model = on_its_code(model)               # after the options' checks: no build for a bad call
     run = RunState(model, options, switcher if switcher is not None else default_switcher(model),
                    integrator_maker(options.integrator))
     p = model.parameter_vector(options.params)
