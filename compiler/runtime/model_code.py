@@ -26,9 +26,8 @@ INSTALLED_RUNTIME = "compiler.runtime"
 STANDALONE_WHY = ("a standalone module's runtime builds no C code (dyadc compile --standalone needs "
                   "only casadi and numpy); regenerate the module where a C compiler is present to "
                   "write its C library beside it")
-# Measured 2026-11-28 (docs/numerics.md, "Compiled code by default"): gcc takes 0.34-0.44 s of CPU
-# per state set of the 5-body Cartesian chain, which makes three in a 3 s run whose integration
-# takes 0.27 s: building them would add more than the 1 s issue 32 allows an uncached first run
+# why such state sets are not built during the run (the first run's cost), with the measurements:
+# docs/numerics.md, "Compiled code before every first run, and state sets made at run time"
 RUN_TIME_STATE_SET_WHY = ("a state set made at run time has no C library: gcc would add about 0.4 s "
                           "per state set to the run")
 _BUILT = "model code for a run"
