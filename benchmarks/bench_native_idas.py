@@ -27,7 +27,7 @@ sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from compiler import api, runtime  # noqa: E402
-from compiler.cache.c_code import compile_c  # noqa: E402
+from compiler.cache.c_code import compile_c, on_vm  # noqa: E402
 from compiler.runtime.initialization import consistent_initialization  # noqa: E402
 from compiler.runtime.native import library, make_integrator  # noqa: E402
 import bench_floor  # noqa: E402
@@ -52,7 +52,7 @@ def cpu_runs(runs: dict, repeats: int) -> dict:
 def excavator(repeats: int) -> dict:
     """bench_floor.py's run: 12 s, rtol = atol = 1e-6, 1201 points."""
     compilation = api.compile(EXCAVATOR)
-    vm, c = compilation.model, compile_c(compilation.model)
+    vm, c = on_vm(compilation.model), compile_c(compilation.model)
     stop, points = bench_floor.STOP, 1201
     settings = dict(rtol=bench_floor.RTOL, atol=bench_floor.ATOL, points=points)
     # CasADi's IDAS by name: since paths32 runtime.simulate's default is the native driver on C

@@ -47,7 +47,7 @@ def simulate_compiled(compilation: Compilation | CachedCompilation, stop: float,
     with checked_run(compilation, params, start, (model, options.integrator)), \
             runtime_errors(compilation.reduced, compilation.flat):
         result = runtime.simulate(model, options=options)
-    return _with_compile_times(result, compilation.timings, model)
+    return _with_compile_times(result, compilation.timings)
 
 
 def model_for_runs(compilation: Compilation | CachedCompilation, codegen: str | None):
@@ -104,13 +104,10 @@ def _simulate_cached(cached: CachedCompilation, model, options: runtime.Simulati
         if any(name not in model.parameters for name in given):
             return from_sources()       # a structural parameter is named at its declaration
         raise translate_runtime_error(err) from None
-    return _with_compile_times(result, cached.timings, model)
+    return _with_compile_times(result, cached.timings)
 
 
-def _with_compile_times(result: runtime.Result, timings: Mapping[str, float], model) -> runtime.Result:
+def _with_compile_times(result: runtime.Result, timings: Mapping[str, float]) -> runtime.Result:
     result.stats["compile_time"] = sum(timings.values())
     result.stats["compile_timings"] = dict(timings)
-    result.stats["codegen"] = model.metadata.get("codegen", "vm")
-    if model.metadata.get("codegen_why"):
-        result.stats["codegen_why"] = model.metadata["codegen_why"]      # the VM, not asked for
     return result

@@ -5748,7 +5748,9 @@ _MODEL_JSON = (
     '6,-0.0017328466253593309],"z_guess":[0.0,0.0,0.0]}'
 )
 
-_NATIVE_LIBRARY = None   # compiled DAE beside this file (dyadc --codegen c), or None
+# the compiled C library beside this file, or None: then the first simulate() builds it where a C
+# compiler is present (dyadc's C cache; compiler/runtime/model_code.py), else runs on CasADi's VM
+_NATIVE_LIBRARY = None
 # the other state sets' compiled DAEs, by their dummy derivatives (sorted, comma-separated)
 _VARIANT_LIBRARIES = {}
 _model = None

@@ -8,6 +8,9 @@ starts the compilers (threads waiting on compiler processes) and returns at once
 can go on (store the compiled model) while they run; `CBuild.finish` waits and gives the model on C.
 Without a C compiler, or when a build fails, the model stays on CasADi's SX virtual machine, with a
 CodegenWarning; with a C compiler a model runs on C, never on a mix (all its libraries or none).
+`start` makes the choice (C or the VM) and begins the build; `for_a_run` is the same for a model
+that reaches the runtime undecided (compiler/runtime/model_code.py), and imports no more of the
+compiler than this module does, so a generated module's first run stays light.
 """
 from __future__ import annotations
 
@@ -15,13 +18,14 @@ import concurrent.futures
 import hashlib
 import os
 import subprocess
+import time
 import warnings
 from pathlib import Path
 
 import casadi as ca
 
 from compiler.cache import c_libraries
-from compiler.cache.codegen_choice import record_choice
+from compiler.cache.codegen_choice import record_choice, requested
 from compiler.lower import ccodegen
 from compiler.runtime import CompiledModel
 
@@ -141,3 +145,42 @@ def on_vm(model: CompiledModel, why: str | None = None) -> CompiledModel:
     """`model` (and each state set) on CasADi's virtual machine; `why` when it was not asked for."""
     return record_choice(model.replace(native_library=None, variants={
         k: record_choice(v.replace(native_library=None), "vm") for k, v in model.variants.items()}), "vm", why)
+
+
+# -- a model put on its code before its first run --------------------------------------------------
+
+class Started:
+    """A model's code on its way: `finish()` gives the model on it (C, or the VM)."""
+
+    def __init__(self, model, build: CBuild | None, why_vm: str | None):
+        self.model, self.build, self.why_vm = model, build, why_vm
+        self.seconds = 0.0                   # the wall time spent starting and waiting
+
+    def finish(self):
+        began = time.perf_counter()
+        model = on_vm(self.model, self.why_vm) if self.build is None else self.build.finish()
+        self.seconds += time.perf_counter() - began
+        return model
+
+
+def start(model, codegen: str | None = None, directory: Path | None = None) -> Started:
+    """Begin putting `model` on its code: `codegen` "c", "vm" or None (C where a compiler is
+    present; $DYADC_CODEGEN may say otherwise); libraries in `directory` (default: the C cache)."""
+    began = time.perf_counter()
+    choice = requested(codegen)
+    if choice == "vm":
+        started = Started(model, None, None)
+    elif choice is None and ccodegen.find_compiler() is None:
+        started = Started(model, None, "no C compiler (gcc, cc or clang) found")
+    else:
+        started = Started(model, start_c_build(model, directory), None)
+    started.seconds = time.perf_counter() - began
+    return started
+
+
+def for_a_run(model):
+    """The build the runtime calls for a model that reaches a run with its code unsettled (a
+    generated module's, one read back with from_dict, one lowered without C; entry point
+    `dyadc.model_code`, compiler/runtime/model_code.py): `start`'s choice and build, the ones
+    `dyadc simulate` makes, so both run on the same library."""
+    return start(model).finish()

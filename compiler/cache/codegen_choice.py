@@ -1,13 +1,16 @@
 """Which code a model's functions run on: compiled C where a C compiler is present, CasADi's SX
 virtual machine where none is, or where asked (`--codegen vm`, `codegen="vm"`, DYADC_CODEGEN=vm).
 The choice is written into the model's metadata (`codegen`: "c" or "vm", `codegen_why` when the
-VM was not asked for), from which a run's `Result.stats["codegen"]` and the command line's summary
-line report it.
+VM was not asked for; compiler/runtime/model_code.py, which also settles a model that reaches a run
+undecided), from which a run's `Result.stats["codegen"]` and the command line's summary line
+report it.
 """
 from __future__ import annotations
 
 import os
 import warnings
+
+from compiler.runtime.model_code import chosen, record_choice  # noqa: F401  (the one rule, in the runtime)
 
 CODEGEN_VARIABLE = "DYADC_CODEGEN"
 CHOICES = ("c", "vm")
@@ -22,14 +25,3 @@ def requested(codegen: str | None = None) -> str | None:
                       f"compiler is present", CodegenWarning, stacklevel=2)
         return None
     return choice
-
-
-def chosen(model) -> str | None:
-    """"c" or "vm" once a model's code was chosen, else None."""
-    return model.metadata.get("codegen")
-
-
-def record_choice(model, codegen: str, why: str | None = None):
-    """A copy of `model` whose metadata says it runs on `codegen` ("c" or "vm") and, for the VM, why."""
-    metadata = {k: v for k, v in model.metadata.items() if k != "codegen_why"}
-    return model.replace(metadata={**metadata, "codegen": codegen, **({"codegen_why": why} if why else {})})

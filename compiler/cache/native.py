@@ -2,7 +2,7 @@
 compiler is present, built before the run (c_code.py), so every run of a model takes the same path
 and no number depends on whether a build had finished.
 
-`start` begins the build as soon as the model is lowered; the caller stores the compiled model
+`start` (c_code.py) begins the build as soon as the model is lowered; the caller stores the compiled model
 meanwhile and `Started.finish` waits for it. A model from the compilation cache finds its
 libraries through a *link* `models/<entry key>.c-<hash of compiler and flags>.link` naming the key
 of each library (the model's and each state set's), so that a cached run neither writes C nor
@@ -16,47 +16,16 @@ import json
 import re
 import shutil
 import tempfile
-import time
 from pathlib import Path
 
 from compiler.cache import c_libraries, keys
-from compiler.cache.c_code import CBuild, on_vm, start_c_build, with_library
+from compiler.cache.c_code import CBuild, Started, start, with_library  # noqa: F401  (start: native.start)
 from compiler.cache.codegen_choice import chosen, requested
 from compiler.cache.models import models_folder
 from compiler.cache.store import read_sealed, write_sealed
 
 LINK_SUFFIX = ".link"
 _KEY = re.compile(r"[0-9a-f]{16,64}")
-
-
-class Started:
-    """A model's code on its way: `finish()` gives the model on it (C, or the VM)."""
-
-    def __init__(self, model, build: CBuild | None, why_vm: str | None):
-        self.model, self.build, self.why_vm = model, build, why_vm
-        self.seconds = 0.0                   # the wall time spent starting and waiting
-
-    def finish(self):
-        began = time.perf_counter()
-        model = on_vm(self.model, self.why_vm) if self.build is None else self.build.finish()
-        self.seconds += time.perf_counter() - began
-        return model
-
-
-def start(model, codegen: str | None = None, directory: Path | None = None) -> Started:
-    """Begin putting `model` on its code: `codegen` "c", "vm" or None (C where a compiler is
-    present; $DYADC_CODEGEN may say otherwise); libraries in `directory` (default: the C cache)."""
-    began = time.perf_counter()
-    from compiler.lower import ccodegen
-    choice = requested(codegen)
-    if choice == "vm":
-        started = Started(model, None, None)
-    elif choice is None and ccodegen.find_compiler() is None:
-        started = Started(model, None, "no C compiler (gcc, cc or clang) found")
-    else:
-        started = Started(model, start_c_build(model, directory), None)
-    started.seconds = time.perf_counter() - began
-    return started
 
 
 def on_its_code(model, codegen: str | None = None):

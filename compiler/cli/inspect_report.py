@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from collections import Counter
 
+from compiler.cli.simulate import code_named
 from compiler.pipeline import Compilation
 
 _MAX_NAMES = 40
@@ -14,14 +15,15 @@ def _names(names: list[str]) -> str:
 
 
 def format_switch_log(result) -> str:
-    """The state-set switches and events of a run: time, old set, new set, and the pivot quality
-    of the old set there (its pivot block's smallest singular value against the best choice's)."""
+    """The state-set switches and events of a run: time, old set, new set, the pivot quality of
+    the old set there (its pivot block's smallest singular value against the best choice's), and
+    the code the new set runs on ("in C", or "on the VM" and why)."""
     lines = [f"run to t = {result.time[-1]:.6g}: {len(result.switches)} state-set switches, "
              f"{len(result.events)} events, {result.stats.get('steps', 0)} IDAS steps"]
     for switch in result.switches:
         lines.append(f"  t = {switch['time']:<14.10g} ({', '.join(switch['from'])}) -> "
                      f"({', '.join(switch['to'])})  pivot quality {switch.get('quality', float('nan')):.3g}"
-                     f"  degraded: {switch['degraded']}")
+                     f"  degraded: {switch['degraded']}  {code_named(switch)}")
     for event in result.events:
         lines.append(f"  t = {event['time']:<14.10g} event {event['event']}")
     return "\n".join(lines)

@@ -3,7 +3,12 @@
 `write_module` writes `<module_name>.py`: the serialized CasADi Functions plus a thin API. A model
 whose state set switches carries every state set (`CompiledModel.variants`) in that payload, and
 with `--codegen c` each one's library beside the module, so the module switches as dyadc does
-(compiler/runtime/variants.py). The module imports casadi, numpy, the standard library and the run-time package, nothing else:
+(compiler/runtime/variants.py). A module without its library (`dyadc generate` writes none: its
+text must be reproducible) has it built by its first run where a C compiler is present, by the
+build and cache `dyadc simulate` uses (compiler/runtime/model_code.py), so both run on the same
+code (that build is the one part of dyadc beyond its runtime such a run imports: no sympy or
+lark); a standalone module cannot build one and runs on CasADi's VM, saying so. The module
+imports casadi, numpy, the standard library and the run-time package, nothing else:
 
 - by default the compiler's own `compiler.runtime` (dyadc must be installed where it runs);
 - with `standalone=True` (`dyadc compile --standalone`) a copy of that package written beside the
@@ -54,7 +59,9 @@ _MODEL_JSON = (
 {model_json}
 )
 
-_NATIVE_LIBRARY = {native!r}   # compiled DAE beside this file (dyadc --codegen c), or None
+# the compiled C library beside this file, or None: then the first simulate() builds it where a C
+# compiler is present (dyadc's C cache; compiler/runtime/model_code.py), else runs on CasADi's VM
+_NATIVE_LIBRARY = {native!r}
 # the other state sets' compiled DAEs, by their dummy derivatives (sorted, comma-separated)
 _VARIANT_LIBRARIES = {variant_libraries}
 _model = None

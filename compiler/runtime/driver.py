@@ -10,6 +10,7 @@ from . import interrupts
 from .errors import SimulationFailed, SimulationInterrupted
 from .initialization import InitialPoint, consistent_initialization
 from .model import CompiledModel
+from .model_code import code_stats, on_its_code
 from .native.choice import integrator_maker
 from .options import SimulationOptions
 from .progress import Progress
@@ -43,19 +44,22 @@ def simulate(model: CompiledModel, stop: float | None = None, *, options: Simula
     params, max_steps, max_step, breakpoints, integrator_options, progress, integrator). The
     integrator is the one choice of native/choice.py, whoever calls: the native IDAS driver where
     it can run the model, else CasADi's IDAS, named in `stats["integrator"]` with the reason in
-    `stats["integrator_why"]`."""
+    `stats["integrator_why"]`. A model whose code is not settled yet is put on it first
+    (model_code.py: its C library built where a C compiler is present), reported in
+    `stats["codegen"]` (and `["codegen_why"]`)."""
     if options is None:
         options = SimulationOptions(stop=stop, **settings)
     elif stop is not None or settings:
         raise TypeError("pass either options or keyword settings, not both")
     options = options.validated()
+    model = on_its_code(model)               # after the options' checks: no build for a bad call
     run = RunState(model, options, switcher if switcher is not None else default_switcher(model),
                    integrator_maker(options.integrator))
     p = model.parameter_vector(options.params)
     run.parameters = model.named_parameters(p)
     run.ends = segment_ends(model, p, options)
     p = with_clock(model, p, options.start, run.ends[0])
-    stats: dict = {"compile_time": model.compile_time}
+    stats: dict = {"compile_time": model.compile_time, **code_stats(model)}
     began = _time.perf_counter()
     point = consistent_initialization(model, p, options.start)
     p, settled_z = settle_relations(model, p, point.x, point.z, options.start)

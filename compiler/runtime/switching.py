@@ -11,6 +11,7 @@ import numpy as np
 from .errors import SimulationFailed
 from .initialization import restart_point
 from .model import CompiledModel
+from .model_code import code_stats
 from .outputs import evaluate_outputs, polish_algebraics
 from .state_sets import level_matrix, state_selection_quality
 
@@ -43,7 +44,7 @@ def switch_state_set(run, model: CompiledModel, values: Mapping[str, float], t: 
         raise SimulationFailed(f"simulation of {model.name} failed at t = {t:.10g}: {reason}", t, reason)
     quality, _ = state_selection_quality(model.state_sets, column)
     run.switches.append({"time": float(t), "from": list(model.state_names), "to": list(new.state_names),
-                         "degraded": dummies, "quality": float(quality)})
+                         "degraded": dummies, "quality": float(quality), **code_stats(new)})
     p_new = run.parameter_vectors.get(id(new))        # the same for every visit of a state set
     if p_new is None:
         p_new = run.parameter_vectors[id(new)] = new.parameter_vector(run.options.params)

@@ -17,6 +17,7 @@ from typing import Mapping
 import casadi as ca
 
 from .model import CompiledModel
+from .model_code import made_at_run_time
 from . import variants
 from .selection_rules import folded_level, may_degrade, next_candidates, watched_level
 from .variants import DUMMIES, SELECTION, selection_output
@@ -166,5 +167,5 @@ class UniversalSwitcher:
             return model                      # no regular choice here: the driver reports it
         if dummies == frozenset(self.first.metadata.get(DUMMIES, ())):
             return self.first
-        return self.first.derived(("universal variant", dummies),
-                                  lambda: variant_of(self.first.universal, dummies, self.selection))
+        return self.first.derived(("universal variant", dummies), lambda: made_at_run_time(
+            variant_of(self.first.universal, dummies, self.selection), self.first))

@@ -6,6 +6,7 @@ from pathlib import Path
 
 import numpy as np
 
+from compiler.lower.ccodegen import find_compiler
 from tests.reference import pendulum
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -24,6 +25,10 @@ def test_inspect_lists_the_switches_of_a_run_where_the_closed_form_says():
     switches = re.findall(r"t = (\S+)\s+\((.*?)\) -> \((.*?)\)\s+pivot quality (\S+)", done.stdout)
     assert [(old, new) for _, old, new, _ in switches] == [("y, vy", "x, vx"), ("x, vx", "y, vy"),
                                                           ("y, vy", "x, vx")]
+    # each switch says the code its new state set runs on: both sets are compiled with the model,
+    # in C where a C compiler is present
+    code = "in C" if find_compiler() else "on the VM (no C compiler (gcc, cc or clang) found)"
+    assert re.findall(r"degraded: .*?  (in C|on the VM.*)$", done.stdout, re.M) == [code] * 3
     # with y a state (x the dummy), the switch comes where exchanging them gains 1 / SWITCH_RATIO
     # = 2, i.e. |y / x| = 2 (the bob 26.6 degrees from the bottom): check the first against the
     # closed form. The native driver (the default) switches at the indicator's root: to the 1e-5 s

@@ -6,7 +6,9 @@ import sys
 from pathlib import Path
 
 
-def run_json(script: str, cwd: Path) -> dict:
-    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=cwd, timeout=300)
+def run_json(script: str, cwd: Path, env: dict | None = None) -> dict:
+    """`env`: the process's environment (default: this one's)."""
+    done = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, cwd=cwd, timeout=300,
+                          env=env)
     assert done.returncode == 0, done.stderr
     return json.loads(done.stdout.strip().splitlines()[-1])

@@ -16,10 +16,11 @@ import numpy as np
 import pytest
 
 from compiler import api, runtime
-from compiler.cache.c_code import compile_c
+from compiler.cache.c_code import compile_c, on_vm
 from compiler.lower.ccodegen import find_compiler
 from compiler.lower.codegen import write_module
 from compiler.lower.universal_variant import universal_model
+from compiler.runtime.model_code import RUN_TIME_STATE_SET_WHY, STANDALONE_WHY
 from compiler.runtime.native import library
 from compiler.runtime.universal import variant_of
 from compiler.runtime.variants import DUMMIES, SELECTION, variant_models
@@ -66,7 +67,8 @@ def test_every_compiled_variant_is_the_one_made_from_the_universal_system(tmp_pa
 def test_a_run_switching_through_made_variants_matches_the_compiled_ones(tmp_path):
     compilation = chain(tmp_path, 3)
     reference = api.simulate_compiled(compilation, STOP, **SETTINGS, codegen="vm")
-    first = compilation.model.replace(variants={}, universal=universal_model(
+    # on the reference's path: the VM and CasADi's IDAS (in C the first state set would run natively)
+    first = on_vm(compilation.model).replace(variants={}, universal=universal_model(
         compilation.analysis, compilation.variant.reduced))
     made = runtime.simulate(first, STOP, **SETTINGS)
     assert len(reference.switches) >= 4
@@ -96,6 +98,7 @@ def run_module(module_dir: Path, name: str) -> dict:
         "out['switches'] = [(s['time'], s['to']) for s in r.switches]\n"
         "out['native'] = m.model().native_library is not None\n"
         "out['integrator'] = r.stats['integrator']\n"
+        "out['codegen_why'] = r.stats.get('codegen_why')\n"
         "out['loaded'] = [k for k in ('sympy', 'lark', 'compiler') if k in sys.modules]\n"
         "print(json.dumps(out))\n"
     )
@@ -128,7 +131,8 @@ def test_a_chain_over_the_limit_carries_its_universal_system(chain5, chain5_in_p
 def test_its_generated_module_switches_as_the_in_process_run(tmp_path, chain5, chain5_in_process):
     write_module(chain5.model, "chain_five", tmp_path, standalone=True)
     out = run_module(tmp_path, "chain_five")
-    assert out["native"] is False
+    # written without its C library, and a standalone module builds none: the VM, saying why
+    assert out["native"] is False and out["codegen_why"] == STANDALONE_WHY
     assert_same_run(out, chain5_in_process)
 
 
@@ -138,8 +142,15 @@ def test_its_c_module_switches_as_the_in_process_run(tmp_path, chain5):
     native = compile_c(chain5.model, tmp_path / "c-cache")
     assert native.native_library is not None and native.universal is not None
     in_c = api.simulate_compiled(dataclasses.replace(chain5, model=native), STOP, **SETTINGS)
-    # the first state set in C on the native driver, the ones made at run time on CasADi's IDAS
+    # the first state set in C on the native driver, the ones made at run time on the VM (never
+    # built during a run: RUN_TIME_STATE_SET_WHY) and CasADi's IDAS; each switch says which (the
+    # third goes back to the first state set)
     assert in_c.stats["integrator"] == "casadi, native"
+    assert in_c.stats["integrator_why"] == f"it is on CasADi's VM: {RUN_TIME_STATE_SET_WHY}"
+    made = ("vm", RUN_TIME_STATE_SET_WHY)
+    assert [(s["codegen"], s.get("codegen_why")) for s in in_c.switches] == \
+        [made, made, ("c", None), made, made]
+    assert in_c.switches[2]["to"] == native.state_names
     write_module(native, "chain_five_c", tmp_path / "module", standalone=True)
     out = run_module(tmp_path / "module", "chain_five_c")
     assert out["native"] is True

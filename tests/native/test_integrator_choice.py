@@ -101,17 +101,21 @@ def test_a_direct_runtime_call_makes_the_same_choice_as_the_compiler(compilation
     """runtime.simulate applies the choice itself (it lives in the runtime), so a caller without
     the compiler (a script, a generated module, a sweep worker) takes the path simulate_compiled
     takes: in C the native driver with the same numbers; a model not yet on its code (the
-    compilation's own, on the VM) runs CasADi's IDAS and says why."""
+    compilation's own) is put on it by its first run, the library `dyadc simulate` builds, and
+    gives the same numbers; on the VM asked for, CasADi's IDAS, which says why."""
     from compiler import runtime
     from compiler.compiled_runs import model_on_its_code
     through_the_compiler = run(compilation, codegen="c")
     direct = runtime.simulate(model_on_its_code(compilation.model, "c"), 2.0, points=5)
     assert direct.stats["integrator"] == through_the_compiler.stats["integrator"] == "native"
     assert (direct.values == through_the_compiler.values).all()
-    on_the_vm = runtime.simulate(compilation.model, 2.0, points=5)
-    assert on_the_vm.stats["integrator"] == "casadi"
-    assert on_the_vm.stats["integrator_why"] == ("it has no C library (a state set made at run time, "
-                                                 "or a model lowered without C code)")
+    assert "codegen" not in compilation.model.metadata               # not on its code yet
+    settled_by_the_run = runtime.simulate(compilation.model, 2.0, points=5)
+    assert (settled_by_the_run.stats["codegen"], settled_by_the_run.stats["integrator"]) == ("c", "native")
+    assert (settled_by_the_run.values == through_the_compiler.values).all()
+    on_the_vm = runtime.simulate(model_on_its_code(compilation.model, "vm"), 2.0, points=5)
+    assert (on_the_vm.stats["codegen"], on_the_vm.stats["integrator"]) == ("vm", "casadi")
+    assert on_the_vm.stats["integrator_why"] == "it is on CasADi's VM, with no C library"
     by_name = runtime.simulate(model_on_its_code(compilation.model, "c"), 2.0, points=5, integrator="casadi")
     assert by_name.stats["integrator"] == "casadi" and "integrator_why" not in by_name.stats
 

@@ -114,6 +114,10 @@ def test_the_wheel_holds_every_package_and_the_whole_library(installed):
     missing = [p for p in library if f"compiler/components/{p}" not in names]
     assert library and not missing, f"library files missing from the wheel: {missing}"
     assert not any(n.startswith(("tests/", "components/")) for n in names)
+    # the C build the runtime calls for a model that reaches a run undecided (runtime/model_code.py)
+    [entry_points] = [n for n in names if n.endswith(".dist-info/entry_points.txt")]
+    declared = zipfile.ZipFile(wheel).read(entry_points).decode()
+    assert "[dyadc.model_code]\nbuild = compiler.cache.c_code:for_a_run\n" in declared
 
 
 def test_installed_dyadc_simulates_the_excavator_from_an_empty_folder(installed, outside):

@@ -5,7 +5,7 @@ from __future__ import annotations
 import time
 
 from compiler import runtime
-from compiler.cache.c_code import compile_c
+from compiler.cache.c_code import compile_c, on_vm
 from compiler.errors import DyadError
 from compiler.lower.to_casadi import lower
 from compiler.runtime import CompiledModel, Result
@@ -14,12 +14,16 @@ from compiler.structure.reduced import ReducedSystem
 
 
 def compile_model(reduced: ReducedSystem, codegen: str | None = None) -> CompiledModel:
-    """Lower `reduced`; `codegen='c'` compiles its DAE to a shared library (compiler/cache/c_code.py)."""
+    """Lower `reduced`; `codegen='c'` compiles its DAE to a shared library (compiler/cache/c_code.py),
+    `codegen='vm'` puts it on CasADi's VM, None leaves its code to its first run (which builds C
+    where a C compiler is present: compiler/runtime/model_code.py)."""
     began = time.perf_counter()
     model = lower(reduced)
-    if codegen not in (None, "", "none", "vm"):
+    if codegen == "vm":
+        model = on_vm(model)
+    elif codegen not in (None, "", "none"):
         if codegen != "c":
-            raise DyadError(f"unknown code generation target '{codegen}' (expected 'c' or none)")
+            raise DyadError(f"unknown code generation target '{codegen}' (expected 'c', 'vm' or none)")
         model = compile_c(model)
     model.compile_time = time.perf_counter() - began
     return model

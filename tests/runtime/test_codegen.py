@@ -12,7 +12,9 @@ import pytest
 
 from tests.runtime import runtime_systems as systems
 from compiler import runtime
+from compiler.cache.c_code import on_vm
 from compiler.lower.codegen import write_module
+from compiler.runtime.model_code import STANDALONE_WHY
 from compiler.errors import DyadError
 from compiler.lower.to_casadi import lower
 
@@ -59,11 +61,13 @@ import valve_tank_model as m
 r = m.simulate(2.0, rtol=1e-9, atol=1e-12, points=11, params={"Kv": 6.0})
 heavy = sorted({n.split(".")[0] for n in sys.modules} & {"sympy", "lark", "compiler"})
 print(json.dumps({"h": r["h"].tolist(), "heavy": heavy, "params": m.PARAMETERS,
-                  "variables": m.VARIABLES, "states": m.STATES}))
+                  "variables": m.VARIABLES, "states": m.STATES, "codegen_why": r.stats.get("codegen_why")}))
 """
     data = json.loads(run_python(code, {"PYTHONPATH": str(tmp_path)}, cwd=tmp_path))
     assert data["heavy"] == []
-    expected = runtime.simulate(model, 2.0, rtol=1e-9, atol=1e-12, points=11, params={"Kv": 6.0})
+    # written without a C library, and a standalone module builds none: the VM, as in process
+    assert data["codegen_why"] == STANDALONE_WHY
+    expected = runtime.simulate(on_vm(model), 2.0, rtol=1e-9, atol=1e-12, points=11, params={"Kv": 6.0})
     assert np.array_equal(np.array(data["h"]), expected["h"])
     assert data["params"] == dict(zip(model.parameter_names, model.parameter_defaults))
     assert data["variables"] == model.output_names and data["states"] == ["h"]

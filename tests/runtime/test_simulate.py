@@ -10,6 +10,7 @@ from scipy.integrate import solve_ivp
 
 from tests.runtime import runtime_systems as systems
 from compiler import runtime
+from compiler.cache.c_code import on_vm
 from compiler.runtime.idas import integrator_options
 from compiler.errors import DyadError, SimulationError
 from compiler.model.flat import TIME
@@ -191,7 +192,11 @@ def kinked_ramp() -> ReducedSystem:
 
 
 def test_breakpoints_stop_the_solver_at_input_kinks():
-    model = lower(kinked_ramp(), events=False)      # as if the compiler had not found the kink
+    # On CasADi's VM and IDAS, where a breakpoint is a cold restart. (On C and the native driver
+    # -- what a lowered model's first run now settles on -- the same runs took 7 and 8 error test
+    # failures and the breakpoint's run was the less accurate, 8.1e-8 against 4.6e-8, on
+    # 2026-11-28: there the breakpoint is no restart; see docs/numerics.md.)
+    model = on_vm(lower(kinked_ramp(), events=False))   # as if the compiler had not found the kink
     options = dict(points=11, rtol=1e-6, atol=1e-8)
     across = runtime.simulate(model, 1.0, **options)
     stopped = runtime.simulate(model, 1.0, breakpoints=[0.37, 5.0], **options)
@@ -201,7 +206,8 @@ def test_breakpoints_stop_the_solver_at_input_kinks():
     assert np.max(np.abs(stopped["x"] - exact)) < np.max(np.abs(across["x"] - exact))
     assert stopped.stats["error_test_failures"] <= 1 < across.stats["error_test_failures"]
     # the compiler writes the kink into the model as a time event: the same run without being told
-    np.testing.assert_array_equal(runtime.simulate(lower(kinked_ramp()), 1.0, **options)["x"], stopped["x"])
+    np.testing.assert_array_equal(runtime.simulate(on_vm(lower(kinked_ramp())), 1.0, **options)["x"],
+                                  stopped["x"])
 
 
 def test_nominal_values_scale_the_absolute_tolerance_per_unknown():

@@ -12,6 +12,7 @@ from typing import Callable, Mapping
 
 from ..integrator import Integrator, Tally
 from ..model import CompiledModel
+from ..model_code import CODEGEN_WHY, chosen
 from ..options import CHOICES
 from ..sampled_idas import SampledIdas
 from ..watches import Watch
@@ -56,9 +57,11 @@ def why_not_native(model: CompiledModel, options: Mapping) -> str | None:
         return why
     if model.native_library is None:
         # (so a model that calls Python functions, which has no C code, stays on CasADi's IDAS)
-        if model.metadata.get("codegen") == "vm":
+        if model.metadata.get(CODEGEN_WHY):
+            return f"it is on CasADi's VM: {model.metadata[CODEGEN_WHY]}"
+        if chosen(model) == "vm":
             return "it is on CasADi's VM, with no C library"
-        return "it has no C library (a state set made at run time, or a model lowered without C code)"
+        return "it has no C library"
 
     unhonoured = unhonoured_options(options)
     if unhonoured:
