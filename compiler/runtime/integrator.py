@@ -32,9 +32,11 @@ class Call:
     latest (a time event, the stop, or less), with the states at the `outputs` times (the output
     grid in (t0, reach]). It ends early at the first crossing of a watched row other than
     `ignored` ones (a row that reaches its zero at the run's stop, `last`, has no crossing: the
-    relation has no value after it). After every point it passes, the states are checked against `scale`
-    (checks.check_divergence). `horizon`, `step0`, `checks` and `retry` serve an integrator that
-    finds crossings after a call (Integrator.locates_crossings False), and are None otherwise."""
+    relation has no value after it). After every point it passes, the states are checked against
+    `scale` (checks.check_divergence). A call that starts at a breakpoint the caller gave (an
+    input's kink) is `fresh`: the integrator restarts there, without the history from before the
+    kink. `horizon`, `step0`, `checks` and `retry` serve an integrator that finds crossings after
+    a call (Integrator.locates_crossings False), and are None otherwise."""
     t0: float
     x0: np.ndarray
     z0: np.ndarray
@@ -48,6 +50,7 @@ class Call:
     checks: tuple[float, ...] | None = None   # where watched rows are sampled; None: its own
     retry: bool = False                 # repeats a failed call, cut before the failure
     last: bool = False                  # reach is the run's stop: nothing comes after it
+    fresh: bool = False                 # starts at a caller's breakpoint: a cold restart there
 
 
 @dataclass

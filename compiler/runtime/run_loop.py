@@ -49,7 +49,12 @@ def next_call(run: RunState, integrator: Integrator, end: float) -> Call:
     return Call(run.t, run.x, run.z, run.p, reach, output_times(run.grid, run.k, reach), run.scale,
                 ignored, horizon=run.horizon, step0=None if retry is None else retry.step0,
                 checks=None if retry is None else retry.checks, retry=retry is not None,
-                last=reach >= run.options.stop)
+                last=reach >= run.options.stop, fresh=at_breakpoint(run.t, run.options.breakpoints))
+
+
+def at_breakpoint(t: float, breakpoints) -> bool:
+    """Whether `t` is one of the caller's breakpoints (to the round-off segments.py merges at)."""
+    return any(abs(t - float(b)) <= 1e-12 * max(1.0, abs(float(b))) for b in breakpoints or ())
 
 
 def call_reach(run: RunState, integrator: Integrator, end: float) -> float:

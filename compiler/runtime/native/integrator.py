@@ -111,7 +111,7 @@ class NativeIdas:
     def advance(self, call: Call) -> Stop:
         active = np.ones(self.nrows, dtype=np.intc)
         active[sorted(call.ignored)] = 0
-        if not self._goes_on(call, active):
+        if call.fresh or not self._goes_on(call, active):
             flag = self.driver.restart(call.t0, call.x0, call.z0, call.p, active,
                                        call.step0 if call.step0 else self.step0)
             self.counted[:] = 0
