@@ -59,7 +59,7 @@ def _instantiate(model: Model, resolved: Resolved, path: str, parent: Instance |
         if name not in known:
             raise DyadError(f"`{resolved.name}` has no parameter, variable or component "
                             f"`{name}`", entries[0].mod.span,
-                            hint=suggest_name(name, sorted(known)))
+                            hint=suggest_name(name, sorted(known)) or _members_hint(resolved.name, template))
 
     def entries_for(element: ElementTemplate) -> list[BoundMod]:
         own = [BoundMod(m, node.scope(lex)) for m, lex in element.extends_mods]
@@ -263,3 +263,18 @@ def _as_attribute_entries(name: str, outer: list[BoundMod], own: list[BoundMod]
         return list(outer)
     wrapper = ast.Modification(name, None, tuple(e.mod for e in own), False, own[0].mod.span)
     return list(outer) + [BoundMod(wrapper, own[0].scope)]
+
+
+# How many of a component's parameters an unknown modifier's hint lists
+MEMBERS_LISTED = 12
+
+
+def _members_hint(name: str, template: Template) -> str:
+    """The parameters a modifier of `name` can set (where it has none: every member), for an
+    unknown modifier with no name close to it."""
+    settable = [e.name for e in template.elements
+                if isinstance(e.decl, ast.ParameterDecl) and not e.decl.final]
+    names, what = (settable, "parameters") if settable else ([e.name for e in template.elements], "members")
+    shown = ", ".join(f"`{n}`" for n in names[:MEMBERS_LISTED])
+    more = f" and {len(names) - MEMBERS_LISTED} more" if len(names) > MEMBERS_LISTED else ""
+    return f"the {what} of `{name}`: {shown}{more}"

@@ -97,11 +97,10 @@ class _Position:
 
 
 def meta_after_doc(tree: Tree):
-    """The node's position without its leading doc string: a declaration or relation (and every
-    error about it) is located at its keyword or name, never at the `"..."` documenting it."""
+    """The node's position without its leading doc string: a definition, declaration or relation
+    (and every error about it) is located at its keyword or name, never at the `"..."`
+    documenting it."""
     children = tree.children
-    if str(tree.data).endswith("_def"):
-        return tree.meta                 # a definition spans its documentation (see tests/syntax)
     if len(children) < 2 or not isinstance(children[0], Tree) or children[0].data != "doc":
         return tree.meta
     after = children[1]

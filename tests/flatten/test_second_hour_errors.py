@@ -155,3 +155,35 @@ def test_modelica_pre_and_edge_are_answered_with_what_dyad_offers(tmp_path, caps
         assert code == 1
         assert located_lines(err, path) == [("error", line_of(path, f"{word}(x)"))], err
         assert f"`{word}` is Modelica" in err and "ifelse(" in err and "unknown function" not in err
+
+
+DOCUMENTED_PARTIAL = '''"""
+A voltage source to be connected: both pins open.
+"""
+component OpenSource
+  p = Pin()
+  n = Pin()
+  variable v::Real
+relations
+  v = p.v - n.v
+  p.i + n.i = 0
+  v = 1
+end
+'''
+
+
+def test_a_documented_definition_is_located_at_its_name_not_its_doc_string(tmp_path, capsys):
+    path = write(tmp_path, "OpenSource.dyad", PIN + DOCUMENTED_PARTIAL)
+    code, _, err = run(capsys, "simulate", f"{path}:OpenSource", "--stop", "1")
+    assert code == 1, err
+    assert located_lines(err, path)[0] == ("error", line_of(path, "component OpenSource")), err
+    assert "is a partial model" in err.splitlines()[0], err
+
+
+def test_an_unknown_modifier_with_no_close_name_lists_the_parameters(tmp_path, capsys):
+    circuit = TYPES.replace("parameter R::Resistance", "parameter R::Resistance = 1.0") \
+        .replace("resistor = Resistor()", "resistor = Resistor(f = 2.0)")
+    path = write(tmp_path, "Circuit.dyad", circuit)
+    code, _, err = run(capsys, "check", f"{path}:Circuit")
+    assert code == 1 and "`Resistor` has no parameter, variable or component `f`" in err, err
+    assert "hint: the parameters of `Resistor`: `R`" in err, err
