@@ -105,12 +105,16 @@ class NativeIdas:
         self.max_steps = int(options.get("max_num_steps", 100000))
         self.step0 = float(options.get("step0", 0.0))
         self.nrows = nrows
+        self.all_active = np.ones(nrows, dtype=np.intc)      # the rows of a call that ignores none
+        self.all_active.setflags(write=False)
         self.at: tuple | None = None        # (t, x, z, p, active) where IDAS stands
         self.counted = np.zeros(len(library.COUNTER_NAMES), dtype=np.int_)
 
     def advance(self, call: Call) -> Stop:
-        active = np.ones(self.nrows, dtype=np.intc)
-        active[sorted(call.ignored)] = 0
+        active = self.all_active
+        if call.ignored:
+            active = active.copy()
+            active[sorted(call.ignored)] = 0
         if not self._goes_on(call, active):
             flag = self.driver.restart(call.t0, call.x0, call.z0, call.p, active,
                                        call.step0 if call.step0 else self.step0)
@@ -173,7 +177,7 @@ class NativeIdas:
 
     def _tally(self) -> None:
         now = self.driver.counters()
-        self.tally(dict(zip(library.COUNTER_NAMES, (int(v) for v in now - self.counted))))
+        self.tally(dict(zip(library.COUNTER_NAMES, (now - self.counted).tolist())))
         self.counted = now
 
     def _failed(self, call: Call, flag: int, t: float) -> Stop:
