@@ -73,6 +73,9 @@ class Stop:
     # z solves the algebraic equations at (t, x) to round-off already (the integrator polished
     # it): the outputs there need no Newton steps of polishing (switching.all_outputs)
     settled: bool = False
+    # every output at (t, x, z) where the integrator computed them already (a state set's switch
+    # proposed by its indicator and confirmed on them): the run does not compute them again
+    outputs: np.ndarray | None = None
 
 
 class Integrator(Protocol):

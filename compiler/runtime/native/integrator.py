@@ -134,11 +134,13 @@ class NativeIdas:
             polished = self.algebraic_solution(t, x, z, call.p)
             settled = polished is not None
             z_out = polished if settled else z
-            level = degraded_level(self.model.state_sets, all_outputs(self.model, x, z_out, call.p, t, settled))
+            outputs = all_outputs(self.model, x, z_out, call.p, t, settled)
+            level = degraded_level(self.model.state_sets, outputs)
             if level in self.level_rows:
                 self._tally()
                 self.at = None
-                return Stop("state set", t, x, z_out, samples, self.level_rows[level], level, settled=settled)
+                return Stop("state set", t, x, z_out, samples, self.level_rows[level], level, settled=settled,
+                            outputs=outputs)
         self._tally()
         if flag == library.ROOT and call.last and t >= call.reach:
             # a watched row on its zero at the run's stop (IDAS reports a root at tstop where the
