@@ -7,7 +7,7 @@ at check times after each call) and `NativeIdas` (compiler/runtime/native/, IDAS
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Callable, Mapping, Protocol
+from typing import Callable, Mapping, Protocol, Sequence
 
 import numpy as np
 
@@ -42,7 +42,7 @@ class Call:
     z0: np.ndarray
     p: np.ndarray
     reach: float
-    outputs: list[float]
+    outputs: np.ndarray                 # ascending float64 (segments.output_times)
     scale: np.ndarray
     ignored: frozenset[int] = frozenset()
     horizon: float | None = None        # how far calls of a state-set model reach now
@@ -64,7 +64,7 @@ class Stop:
     t: float
     x: np.ndarray
     z: np.ndarray
-    samples: list[tuple[list[float], np.ndarray, np.ndarray]] = field(default_factory=list)
+    samples: list[tuple[Sequence[float], np.ndarray, np.ndarray]] = field(default_factory=list)
     row: int | None = None
     what: object = None
     failure: SimulationFailed | None = None
@@ -76,6 +76,9 @@ class Stop:
     # z solves the algebraic equations at (t, x) to round-off already (the integrator polished
     # it): the outputs there need no Newton steps of polishing (switching.all_outputs)
     settled: bool = False
+    # every output at (t, x, z) where the integrator computed them already (a state set's switch
+    # proposed by its indicator and confirmed on them): the run does not compute them again
+    outputs: np.ndarray | None = None
 
 
 class Integrator(Protocol):

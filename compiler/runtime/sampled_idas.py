@@ -38,6 +38,8 @@ class SampledIdas:
     def advance(self, call: Call) -> Stop:
         """IDAS over the call's outputs and check times; the first crossing at the checks, if
         any, is where it stops."""
+        # its time lists are merged and searched as Python floats
+        call = replace(call, outputs=np.asarray(call.outputs, dtype=float).tolist())
         if call.checks is None:
             checks = [] if self.watch is None else \
                 list(np.linspace(call.t0, call.reach, CHECKS_PER_SEGMENT + 1)[1:])

@@ -26,7 +26,7 @@ def pivoted_columns(matrix: np.ndarray, classes: Sequence[Sequence[int]], n_rows
     taken, the choice is made without the rows and the w columns, and w is taken with u where
     that choice takes u."""
     matrix = np.asarray(matrix, dtype=float)
-    scale = max(1.0, float(np.max(np.abs(matrix)))) if matrix.size else 1.0
+    scale = max(1.0, float(np.abs(matrix).max())) if matrix.size else 1.0
     if folds:
         return _folded_choice(matrix, classes, rel_tol * scale, folds)
     return _pivoted(matrix, classes, n_rows, rel_tol * scale)
@@ -39,7 +39,7 @@ def _folded_choice(matrix, classes, threshold, folds) -> list[int]:
     keep_cols = [j for j in range(matrix.shape[1]) if j not in set(partner.values())]
     at = {j: k for k, j in enumerate(keep_cols)}
     sub_classes = [[at[j] for j in members if j in at] for members in classes]
-    picked = [keep_cols[k] for k in _pivoted(matrix[np.ix_(keep_rows, keep_cols)],
+    picked = [keep_cols[k] for k in _pivoted(matrix.take(keep_rows, axis=0).take(keep_cols, axis=1),
                                              [c for c in sub_classes if c], len(keep_rows), threshold)]
     if len(picked) < len(keep_rows):
         return picked                         # no regular choice: fewer than n_rows columns
@@ -52,7 +52,7 @@ def _pivoted(matrix: np.ndarray, classes, n_rows: int, threshold: float) -> list
         return []
     if matrix.shape[0] == 1:
         # one constraint row (a pendulum rod): the largest entry of the first usable class
-        row = np.abs(matrix[0])
+        row = np.abs(matrix[0]).tolist()
         for members in classes:
             if members:
                 j = max(members, key=lambda k: row[k])

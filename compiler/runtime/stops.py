@@ -72,7 +72,9 @@ def retry_before_failure(run: RunState, stop: Stop) -> None:
 def crossing_values(run: RunState, stop: Stop) -> dict:
     """The outputs at a crossing, after counting it among the crossings without time advancing
     (a condition that keeps flipping there is chattering: the run stops)."""
-    values = dict(zip(run.model.output_names, all_outputs(run.model, stop.x, stop.z, run.p, stop.t, stop.settled)))
+    outputs = stop.outputs if stop.outputs is not None else \
+        all_outputs(run.model, stop.x, stop.z, run.p, stop.t, stop.settled)
+    values = dict(zip(run.model.output_names, outputs))
     here = stop.t - run.t <= 1e-12 * max(1.0, abs(run.t))
     run.restarts_here = run.restarts_here + 1 if here else 0
     if run.restarts_here > MAX_EVENTS_AT_ONE_TIME:

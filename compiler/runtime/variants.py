@@ -49,12 +49,13 @@ def dummy_choice(levels: Sequence[Mapping], values: Mapping[str, float]) -> froz
     for k, level in enumerate(levels):
         rows = int(level["rows"])
         order = [c for c in level["order"] if c in candidates]
-        matrix = np.zeros((rows, len(order)))
+        entries = [[0.0] * len(order) for _ in range(rows)]      # one array made at the end
         column = {name: j for j, name in enumerate(order)}
         for i, name, value in given.get(k, ()):
             j = column.get(name)
             if j is not None and i < rows:
-                matrix[i, j] = float(value)
+                entries[i][j] = float(value)
+        matrix = np.array(entries, dtype=float).reshape(rows, len(order))
         folds = level_folds(level, order)
         picked = level_choice(matrix, [level["priority"][name] for name in order], rows,
                               folds=[(int(r), column[u], column[w]) for r, u, w in folds])

@@ -178,7 +178,7 @@ def test_an_integrator_that_finds_crossings_is_called_to_each_segment_end():
         warnings.simplefilter("ignore", BoundWarning)
         integrate(run, Progress(False, 0.0, 3.0))
     run.finish()
-    assert [(c.t0, c.reach, c.outputs) for c in calls] == [(0.0, 2.0, [0.5, 1.0, 1.5, 2.0]),
+    assert [(c.t0, c.reach, c.outputs.tolist()) for c in calls] == [(0.0, 2.0, [0.5, 1.0, 1.5, 2.0]),
                                                            (1.0, 2.0, [1.5, 2.0]), (2.0, 3.0, [2.5, 3.0])]
     assert [c.ignored for c in calls] == [frozenset(), frozenset({0}), frozenset({0})]
     np.testing.assert_array_equal(run.values[0], [1.0, 0.5, 0.0, -0.5, -1.0, -1.5, -2.0])

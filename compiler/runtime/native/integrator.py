@@ -105,12 +105,16 @@ class NativeIdas:
         self.max_steps = int(options.get("max_num_steps", 100000))
         self.step0 = float(options.get("step0", 0.0))
         self.nrows = nrows
+        self.all_active = np.ones(nrows, dtype=np.intc)      # the rows of a call that ignores none
+        self.all_active.setflags(write=False)
         self.at: tuple | None = None        # (t, x, z, p, active) where IDAS stands
         self.counted = np.zeros(len(library.COUNTER_NAMES), dtype=np.int_)
 
     def advance(self, call: Call) -> Stop:
-        active = np.ones(self.nrows, dtype=np.intc)
-        active[sorted(call.ignored)] = 0
+        active = self.all_active
+        if call.ignored:
+            active = active.copy()
+            active[sorted(call.ignored)] = 0
         if call.fresh or not self._goes_on(call, active):
             flag = self.driver.restart(call.t0, call.x0, call.z0, call.p, active,
                                        call.step0 if call.step0 else self.step0)
@@ -130,11 +134,13 @@ class NativeIdas:
             polished = self.algebraic_solution(t, x, z, call.p)
             settled = polished is not None
             z_out = polished if settled else z
-            level = degraded_level(self.model.state_sets, all_outputs(self.model, x, z_out, call.p, t, settled))
+            outputs = all_outputs(self.model, x, z_out, call.p, t, settled)
+            level = degraded_level(self.model.state_sets, outputs)
             if level in self.level_rows:
                 self._tally()
                 self.at = None
-                return Stop("state set", t, x, z_out, samples, self.level_rows[level], level, settled=settled)
+                return Stop("state set", t, x, z_out, samples, self.level_rows[level], level, settled=settled,
+                            outputs=outputs)
         self._tally()
         if flag == library.ROOT and call.last and t >= call.reach:
             # a watched row on its zero at the run's stop (IDAS reports a root at tstop where the
@@ -173,7 +179,7 @@ class NativeIdas:
 
     def _tally(self) -> None:
         now = self.driver.counters()
-        self.tally(dict(zip(library.COUNTER_NAMES, (int(v) for v in now - self.counted))))
+        self.tally(dict(zip(library.COUNTER_NAMES, (now - self.counted).tolist())))
         self.counted = now
 
     def _failed(self, call: Call, flag: int, t: float) -> Stop:
