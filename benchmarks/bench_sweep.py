@@ -98,7 +98,7 @@ def run(samples: int, workers: list[int], points: int, log=print) -> dict:
     info = machine.describe()
     cores = os.cpu_count() or 1
     compilation = compile_spec(MODEL)
-    options = dict(stop=12.0, points=points, variables=VARIABLES, metrics=METRICS, progress=False)
+    options = dict(stop=12.0, points=points, variables=VARIABLES, metrics=METRICS)
     design = {PARAMETER: list(np.linspace(*RANGE, samples))}
     single, single_cpu = single_run_seconds(compilation, options)
     log(f"one in-process run: {single * 1e3:.1f} ms ({single_cpu * 1e3:.1f} ms CPU)")
