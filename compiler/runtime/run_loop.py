@@ -13,7 +13,7 @@ from .integrator import Call, Integrator
 from .progress import Progress
 from .relations import settle_relations
 from .run_state import RunState
-from .segments import output_times, with_clock
+from .segments import output_times, with_clock, within_round_off
 from .stops import HANDLERS
 
 
@@ -21,7 +21,7 @@ def integrate(run: RunState, progress: Progress) -> None:
     """Advance the run (started at RunState.start_at) to the stop."""
     while run.t < run.options.stop:
         end = run.segment_end()
-        if end - run.t <= 1e-12 * max(1.0, abs(end)):      # a located crossing at a segment's end
+        if within_round_off(run.t, end):      # a located crossing at a segment's end
             run.t = end
             run.end_index += 1
             continue
@@ -54,7 +54,7 @@ def next_call(run: RunState, integrator: Integrator, end: float) -> Call:
 
 def at_breakpoint(t: float, breakpoints) -> bool:
     """Whether `t` is one of the caller's breakpoints (to the round-off segments.py merges at)."""
-    return any(abs(t - float(b)) <= 1e-12 * max(1.0, abs(float(b))) for b in breakpoints or ())
+    return any(within_round_off(min(t, float(b)), max(t, float(b))) for b in breakpoints or ())
 
 
 def call_reach(run: RunState, integrator: Integrator, end: float) -> float:

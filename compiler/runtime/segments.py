@@ -26,6 +26,11 @@ def first_step(integrator, x, xdot, t0: float, t1: float) -> float:
     return float(2.0 ** np.floor(np.log2(h))) if h > 0 and np.isfinite(h) else 1e-3 * (t1 - t0)
 
 
+def within_round_off(earlier: float, later: float) -> bool:
+    """Whether `later` is no more than round-off after `earlier` (one instant for the run)."""
+    return later - earlier <= 1e-12 * max(1.0, abs(later))
+
+
 def segment_ends(model: CompiledModel, p: np.ndarray, options: SimulationOptions) -> list[float]:
     """Where segments end: the model's time events, the caller's breakpoints, the stop time."""
     start, stop = options.start, options.stop
@@ -33,9 +38,9 @@ def segment_ends(model: CompiledModel, p: np.ndarray, options: SimulationOptions
     breaks |= {float(b) for b in options.breakpoints or () if start < float(b) < stop}
     ends: list[float] = []
     for b in sorted(breaks) + [stop]:            # events closer than round-off are one event
-        if ends and b - ends[-1] <= 1e-12 * max(1.0, abs(b)):
+        if ends and within_round_off(ends[-1], b):
             ends[-1] = b
-        elif b - start > 1e-12 * max(1.0, abs(b)):
+        elif not within_round_off(start, b):
             ends.append(b)
     return ends
 
